@@ -1,0 +1,65 @@
+"""The operator bundle: what a domain hands to the heat solver.
+
+A domain (triangle mesh, tetrahedral mesh, polygon mesh, point cloud) reduces
+to the same five objects, and the heat method in :mod:`heatcore.heat` is
+written once against them.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+
+@dataclass
+class Operators:
+    """Discrete differential operators on ``n`` vertices and ``e`` elements.
+
+    Attributes
+    ----------
+    laplacian : (n, n) sparse matrix
+        Positive semi-definite stiffness (cotan) Laplacian ``L = G^T diag(V) G``.
+    mass : (n,) float array
+        Lumped (diagonal) mass, positive on every vertex.
+    gradient : (e * dim, n) sparse matrix
+        Per-element gradient; row ``e * dim + k`` is component ``k`` of element
+        ``e``'s gradient, in a frame local to the element.
+    volumes : (e,) float array
+        Element areas (or volumes); the divergence is ``-gradient.T @ diag(volumes)``.
+    dim : int
+        Number of components of an element gradient.
+    boundary : (n,) bool array
+        Vertices on the domain boundary (where Dirichlet conditions apply).
+    elements : (e, k) int array
+        Vertex indices of each element; defines connected components.
+    mean_edge_length : float
+        ``h`` in the time step ``t = m h^2``.
+    """
+
+    laplacian: sp.spmatrix
+    mass: np.ndarray
+    gradient: sp.spmatrix
+    volumes: np.ndarray
+    dim: int
+    boundary: np.ndarray
+    elements: np.ndarray
+    mean_edge_length: float
+
+    @property
+    def n_vertices(self):
+        """Number of vertices the operators act on."""
+        return self.mass.shape[0]
+
+    def divergence(self, field):
+        """Integrated divergence at vertices of a per-element vector field.
+
+        Parameters
+        ----------
+        field : (e, dim) float array
+
+        Returns
+        -------
+        (n,) float array, equal to ``-G^T diag(volumes) field``.
+        """
+        weighted = (field * self.volumes[:, None]).ravel()
+        return -(self.gradient.T @ weighted)

@@ -1,0 +1,117 @@
+"""Midpoint (1-to-4) subdivision that keeps the surface and remembers where new vertices lie.
+
+Splitting every triangle at its edge midpoints leaves the surface and the
+original vertices unchanged, so distances computed on the refined mesh are
+read back at the original vertices. Each new vertex records the original edge
+it lies on (or ``-1``) and the original face it lies in (or ``-1``), so that
+region and surface-point sources can be carried to the refined mesh.
+
+Examples
+--------
+>>> import numpy as np
+>>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+>>> sub = midpoint_subdivide(V, np.array([[0, 1, 2]]), levels=1)
+>>> sub.vertices.shape, sub.faces.shape
+((6, 3), (4, 3))
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass
+class Subdivision:
+    """Result of :func:`midpoint_subdivide`.
+
+    Attributes
+    ----------
+    vertices : (n', 3) float array; the first ``n`` rows are the input vertices.
+    faces : (m', 3) int array
+    edges : (k, 2) int array, the unique edges of the input mesh (sorted pairs).
+    vertex_edge : (n',) int array, input edge a vertex lies on, or -1.
+    vertex_face : (n',) int array, input face a vertex lies strictly inside, or -1.
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    edges: np.ndarray
+    vertex_edge: np.ndarray
+    vertex_face: np.ndarray
+
+
+def unique_edges(F):
+    """Unique undirected edges of a face array, and each face side's edge id.
+
+    Parameters
+    ----------
+    F : (m, 3) int array
+
+    Returns
+    -------
+    edges : (k, 2) int array of sorted vertex pairs
+    side_edge : (m, 3) int array, edge id of the side opposite each corner
+    """
+    a = F[:, [1, 2, 0]].ravel()
+    b = F[:, [2, 0, 1]].ravel()
+    n = int(F.max()) + 1
+    keys, inverse = np.unique(np.minimum(a, b) * n + np.maximum(a, b), return_inverse=True)
+    edges = np.stack([keys // n, keys % n], axis=1)
+    return edges, inverse.reshape(F.shape)
+
+
+def midpoint_subdivide(V, F, levels):
+    """Subdivide ``levels`` times, each triangle into four at its edge midpoints.
+
+    Parameters
+    ----------
+    V : (n, 3) float array
+    F : (m, 3) int array
+    levels : int
+
+    Returns
+    -------
+    Subdivision
+    """
+    edges, side_edge = unique_edges(F)
+    n = V.shape[0]
+    vertex_edge = np.full(n, -1, dtype=np.int64)
+    vertex_face = np.full(n, -1, dtype=np.int64)
+    face_origin = np.arange(F.shape[0])
+    side_origin = side_edge.copy()  # input edge id of each face side, -1 if interior
+    for _ in range(levels):
+        cur_edges, cur_side = unique_edges(F)
+        mid = V.shape[0] + np.arange(cur_edges.shape[0])
+        V = np.vstack([V, 0.5 * (V[cur_edges[:, 0]] + V[cur_edges[:, 1]])])
+        # origin of each new vertex: the input edge its side lies on, else the input face
+        sides, origin = cur_side.ravel(), side_origin.ravel()
+        new_edge = np.full(cur_edges.shape[0], -1, dtype=np.int64)
+        new_face = np.full(cur_edges.shape[0], -1, dtype=np.int64)
+        new_edge[sides] = origin
+        inner = origin == -1
+        new_face[sides[inner]] = np.repeat(face_origin, 3)[inner]
+        vertex_edge = np.r_[vertex_edge, new_edge]
+        vertex_face = np.r_[vertex_face, new_face]
+
+        v0, v1, v2 = F.T
+        m0, m1, m2 = mid[cur_side].T
+        s0, s1, s2 = side_origin.T
+        none = np.full_like(s0, -1)
+        F = np.concatenate(
+            [
+                np.stack([v0, m2, m1], 1),
+                np.stack([m2, v1, m0], 1),
+                np.stack([m1, m0, v2], 1),
+                np.stack([m0, m1, m2], 1),
+            ]
+        )
+        side_origin = np.concatenate(
+            [
+                np.stack([none, s1, s2], 1),
+                np.stack([s0, none, s2], 1),
+                np.stack([s0, s1, none], 1),
+                np.stack([none, none, none], 1),
+            ]
+        )
+        face_origin = np.tile(face_origin, 4)
+    return Subdivision(V, F, edges, vertex_edge, vertex_face)

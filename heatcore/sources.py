@@ -1,0 +1,80 @@
+"""Sources as the heat solver sees them: pinned vertex values plus a heat impulse.
+
+Every kind of source (vertices, points inside elements, regions made of edges
+or faces) becomes a :class:`SourcePins`: the operator vertices whose distance
+is known (0 for a source vertex, the straight-line distance inside a flat
+element for a point in that element) and the right-hand side of the heat
+step. Domains build it; :mod:`heatcore.heat` consumes it.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import InvalidSourceError
+
+
+@dataclass
+class SourcePins:
+    """Known distances at some operator vertices, and where heat is injected.
+
+    Attributes
+    ----------
+    vertices : (k,) int array, operator vertex indices (unique)
+    values : (k,) float array, distance at each pinned vertex (>= 0)
+    heat : (n,) float array, the heat step's right-hand side
+    """
+
+    vertices: np.ndarray
+    values: np.ndarray
+    heat: np.ndarray
+
+    @classmethod
+    def combine(cls, n, vertices, values, heat_vertices, heat_weights):
+        """Merge possibly repeated pins (keeping the smallest value) and heat impulses."""
+        vertices = np.asarray(vertices, dtype=np.int64)
+        values = np.asarray(values, dtype=float)
+        order = np.lexsort((values, vertices))
+        vertices, values = vertices[order], values[order]
+        first = np.r_[True, vertices[1:] != vertices[:-1]]
+        heat = np.bincount(heat_vertices, weights=heat_weights, minlength=n).astype(float)
+        return cls(vertices[first], values[first], heat)
+
+
+def index_list(indices, upper, what):
+    """Validate a list of indices into ``range(upper)``; returns an int64 array.
+
+    Raises
+    ------
+    InvalidSourceError
+        Non-integer, negative or out-of-range entries.
+    """
+    arr = np.asarray(indices)
+    if arr.dtype == object:
+        raise InvalidSourceError(f"{what} indices must be integers")
+    arr = np.atleast_1d(arr)
+    if arr.size and not np.issubdtype(arr.dtype, np.integer):
+        if not np.issubdtype(arr.dtype, np.floating) or np.any(~np.isfinite(arr)) or np.any(arr != np.round(arr)):
+            raise InvalidSourceError(f"{what} indices must be integers, got {arr.dtype}")
+    arr = arr.astype(np.int64)
+    bad = (arr < 0) | (arr >= upper)
+    if bad.any():
+        raise InvalidSourceError(
+            f"{what} index {int(arr[bad][0])} is out of range: there are {upper} {what}s (0..{upper - 1})"
+        )
+    return arr
+
+
+def barycentric_array(bary, count, corners):
+    """Validate barycentric coordinates: shape ``(count, corners)``, finite, >= 0, summing to 1."""
+    b = np.asarray(bary, dtype=float).reshape(-1, corners) if np.size(bary) else np.zeros((0, corners))
+    if b.shape[0] != count:
+        raise InvalidSourceError(f"got {count} element indices but {b.shape[0]} barycentric coordinate rows")
+    if not np.isfinite(b).all():
+        raise InvalidSourceError("barycentric coordinates must be finite")
+    if (b < -1e-9).any() or np.any(np.abs(b.sum(axis=1) - 1.0) > 1e-6):
+        row = int(np.flatnonzero((b < -1e-9).any(axis=1) | (np.abs(b.sum(axis=1) - 1.0) > 1e-6))[0])
+        raise InvalidSourceError(
+            f"barycentric coordinates of point {row} are {b[row].tolist()}: they must be >= 0 and sum to 1"
+        )
+    return np.clip(b, 0.0, None) / np.clip(b, 0.0, None).sum(axis=1, keepdims=True)
