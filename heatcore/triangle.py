@@ -119,6 +119,11 @@ class TriangleMesh:
         Edge flips made by the intrinsic Delaunay step.
     mollification : float
         Length added to every edge by mollification (0 for clean meshes).
+    intrinsic : IntrinsicTriangulation
+        The triangulation the operators are built on (faces index operator vertices).
+    subdivision : Subdivision
+        The (possibly midpoint-refined) mesh; its first vertices are the input's
+        referenced vertices, in ``vertex_map`` order.
 
     Examples
     --------
@@ -166,8 +171,9 @@ class TriangleMesh:
         self.mollification *= h
         tri = IntrinsicTriangulation.from_mesh(None, F, lengths=lengths)
         self.n_flips = tri.flip_to_delaunay() if self.robust else 0
-        ops = triangle_operators(tri.lengths * h, tri.faces, n, boundary, h)
-        return ops
+        tri.lengths *= h
+        self.intrinsic = tri
+        return triangle_operators(tri.lengths, tri.faces, n, boundary, h)
 
     @property
     def n_input_vertices(self):
