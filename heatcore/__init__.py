@@ -51,6 +51,7 @@ def geodesic_distance(
     boundary="robin",
     robust=True,
     refine="auto",
+    accuracy="smooth",
 ):
     """Geodesic distance from sources on a triangle mesh, in one call.
 
@@ -73,6 +74,8 @@ def geodesic_distance(
         Intrinsic Delaunay operators (see :class:`TriangleMesh`).
     refine : "auto" or int
         Midpoint subdivision levels (see :class:`TriangleMesh`).
+    accuracy : {"smooth", "high"}
+        "high" adds an ordered eikonal pass (see :class:`HeatSolver`).
 
     Returns
     -------
@@ -86,5 +89,5 @@ def geodesic_distance(
     >>> bool(abs(d[1] - 1.0) < 0.02)
     True
     """
-    solver = HeatSolver(TriangleMesh(V, F, robust=robust, refine=refine), m=m, boundary=boundary)
+    solver = HeatSolver(TriangleMesh(V, F, robust=robust, refine=refine), m=m, boundary=boundary, accuracy=accuracy)
     return solver.distance(sources, face_points=face_points, edges=edges, faces=faces)

@@ -33,6 +33,7 @@ from .linalg import factor
 log = logging.getLogger("heatcore")
 
 BOUNDARY_CONDITIONS = ("robin", "neumann", "dirichlet")
+ACCURACY_MODES = ("smooth", "high")
 
 #: Up to this many pinned vertices, the pinned Poisson solve reuses the
 #: prefactored Laplacian (one multi-right-hand-side solve); beyond, it factors
@@ -53,6 +54,11 @@ class HeatSolver:
         Boundary condition of the heat step on domains with boundary;
         "robin" averages the Neumann and Dirichlet solutions, as the paper
         recommends. Domains without boundary always use Neumann.
+    accuracy : {"smooth", "high"}, default "smooth"
+        "smooth" is the heat method as the paper describes it (``m`` controls
+        smoothing). "high" follows it with an ordered eikonal pass that uses
+        the heat distance as the order (:mod:`heatcore.eikonal`); triangle
+        meshes only.
     backend : {"auto", "cholmod", "superlu"}
         Sparse factorization backend (see :mod:`heatcore.linalg`).
 
@@ -73,11 +79,14 @@ class HeatSolver:
     >>> d0, d1 = solver.distance([0]), solver.distance([10, 20])
     """
 
-    def __init__(self, domain, *, m=1.0, boundary="robin", backend="auto"):
+    def __init__(self, domain, *, m=1.0, boundary="robin", accuracy="smooth", backend="auto"):
         if not (isinstance(m, (int, float, np.floating, np.integer)) and np.isfinite(m) and m > 0):
             raise InvalidOptionError(f"time factor m must be a positive finite number, got {m!r}")
         if boundary not in BOUNDARY_CONDITIONS:
             raise InvalidOptionError(f"boundary must be one of {BOUNDARY_CONDITIONS}, got {boundary!r}")
+        if accuracy not in ACCURACY_MODES:
+            raise InvalidOptionError(f"accuracy must be one of {ACCURACY_MODES}, got {accuracy!r}")
+        self.accuracy = accuracy
         self.domain = domain
         self.m = float(m)
         ops = self.ops = domain.operators
@@ -158,6 +167,10 @@ class HeatSolver:
         phi = self._pinned_poisson(b, pins, reached)
         phi = np.maximum(phi, 0.0)
         phi[~reached] = np.inf
+        if self.accuracy == "high":
+            from .eikonal import refine_distance
+
+            phi = refine_distance(self.domain, phi, pins)
         return phi
 
     def heat(self, impulse):
