@@ -1,0 +1,491 @@
+"""The ``heatcore`` command: geodesic distance on mesh files, and a demo.
+
+Subcommands are registered in :data:`COMMANDS` with the :func:`command`
+decorator (a function that adds the arguments, and one that runs them), so
+a new subcommand is one more decorated pair. Solver options are declared once
+in :data:`SOLVER_OPTIONS` and routed to :class:`~heatcore.TriangleMesh` or
+:class:`~heatcore.HeatSolver`; a new solver option is one more entry there.
+
+Progress and timings go to stderr (``--quiet`` silences them); results and
+the paths written go to stdout. User errors (bad files, bad options, bad
+sources) end with exit status 1 and one line ``heatcore: error: ...``;
+argparse usage errors with status 2.
+
+Examples
+--------
+>>> main(["--version"])  # doctest: +ELLIPSIS
+heatcore ...
+0
+"""
+
+import argparse
+import contextlib
+from io import StringIO
+import logging
+import sys
+import time
+import warnings
+from pathlib import Path
+from typing import Callable, NamedTuple
+
+import numpy as np
+
+from .errors import HeatcoreError, HeatcoreWarning
+
+log = logging.getLogger("heatcore.cli")
+
+#: Vertex near the tip of spot's nose (the snout's front, on the symmetry plane).
+DEMO_SOURCE = 1453
+#: Camera of the demo picture: spot faces -z with y up; a three-quarter front view.
+DEMO_VIEW = {"elevation": 15.0, "azimuth": 150.0, "up": "y"}
+#: Isolines in the PNG when ``--isolines`` is not given.
+PNG_ISOLINES = 12
+OUTPUT_SUFFIXES = (".ply", ".npy", ".csv")
+
+
+class CliError(HeatcoreError):
+    """A command-line input is unusable (sources file, output path, ...)."""
+
+
+# --------------------------------------------------------------------------- options
+
+
+def _positive_float(text):
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not (np.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"must be a positive number, got {text!r}")
+    return value
+
+
+def _refine_levels(text):
+    if text == "auto":
+        return "auto"
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be 'auto' or an integer 0..8, got {text!r}") from None
+    if not 0 <= value <= 8:
+        raise argparse.ArgumentTypeError(f"must be 'auto' or an integer 0..8, got {text!r}")
+    return value
+
+
+def _non_negative_int(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be >= 0, got {text!r}")
+    return value
+
+
+def _colormaps():
+    from .colormap import COLORMAPS
+
+    return sorted(COLORMAPS)
+
+
+#: Solver options: (flags, target, argparse keywords). ``target`` is "mesh"
+#: (a keyword of TriangleMesh) or "solver" (a keyword of HeatSolver); the
+#: keyword is the option's ``dest``. One entry per option.
+SOLVER_OPTIONS = [
+    (("--m",), "solver", dict(dest="m", type=_positive_float, default=1.0, metavar="M",
+        help="heat time factor: t = M * h^2, h the mean edge length; larger M gives a "
+             "smoother distance (default: %(default)s)")),
+    (("--boundary",), "solver", dict(dest="boundary", choices=("robin", "neumann", "dirichlet"),
+        default="robin", help="boundary condition of the heat step on meshes with boundary: "
+                              "robin (mean of neumann and dirichlet, the paper's advice), "
+                              "neumann or dirichlet (default: %(default)s)")),
+    (("--no-robust",), "mesh", dict(dest="robust", action="store_false",
+        help="plain cotan operators on the input triangles instead of the intrinsic "
+             "Delaunay triangulation (faster to build, much less accurate on poor meshes)")),
+    (("--refine",), "mesh", dict(dest="refine", type=_refine_levels, default="auto", metavar="LEVELS",
+        help="midpoint subdivision levels before solving: 'auto' (refine meshes under "
+             "12k vertices) or 0..8; results are read back at the input vertices "
+             "(default: %(default)s)")),
+]
+
+
+def add_solver_options(parser):
+    group = parser.add_argument_group("solver options")
+    for flags, _, kwargs in SOLVER_OPTIONS:
+        group.add_argument(*flags, **kwargs)
+
+
+def build_solver(V, F, args):
+    """TriangleMesh + HeatSolver from the parsed solver options, with timing lines."""
+    from .heat import HeatSolver
+    from .triangle import TriangleMesh
+
+    kw = {"mesh": {}, "solver": {}}
+    for _, target, kwargs in SOLVER_OPTIONS:
+        kw[target][kwargs["dest"]] = getattr(args, kwargs["dest"])
+    with _stage("precompute"):
+        solver = HeatSolver(TriangleMesh(V, F, **kw["mesh"]), **kw["solver"])
+    return solver
+
+
+def add_output_options(parser, png_help):
+    group = parser.add_argument_group("picture and colors")
+    group.add_argument("--colormap", default="viridis", choices=_colormaps(),
+                       help="perceptual colormap of the PLY vertex colors and the PNG (default: %(default)s)")
+    group.add_argument("--isolines", type=_non_negative_int, default=None, metavar="N",
+                       help=f"number of evenly spaced isolines: dark stripes in the PLY vertex colors "
+                            f"and lines in the PNG (default: none in the PLY, {PNG_ISOLINES} in the PNG; "
+                            f"0: none)")
+    group.add_argument("--png", type=Path, default=None, metavar="PATH", help=png_help)
+
+
+def add_common_options(parser):
+    parser.add_argument("-q", "--quiet", action="store_true", help="no progress or timing lines on stderr")
+
+
+# --------------------------------------------------------------------------- registry
+
+class Command(NamedTuple):
+    help: str
+    description: str
+    arguments: Callable  # arguments(parser): adds the subcommand's options
+    run: Callable  # run(args) -> exit status
+
+
+#: Subcommands by name, in the order ``heatcore --help`` lists them.
+COMMANDS = {}
+
+
+def command(name, *, arguments, help, description=None):
+    """Decorator registering ``run(args) -> int`` as subcommand ``name``.
+
+    ``arguments(parser)`` adds the subcommand's options to its parser.
+    """
+
+    def register(run):
+        COMMANDS[name] = Command(help, description or help, arguments, run)
+        return run
+
+    return register
+
+
+# --------------------------------------------------------------------------- helpers
+
+
+class _stage:
+    """Context manager that logs ``<name>: <seconds> s`` on stderr and records it."""
+
+    timings = {}
+
+    def __init__(self, name):
+        self.name = name
+
+    def __enter__(self):
+        self.start = time.perf_counter()
+        return self
+
+    def __exit__(self, exc_type, exc, tb):
+        if exc_type is None:
+            seconds = time.perf_counter() - self.start
+            _stage.timings[self.name] = seconds
+            log.info("%s: %s", self.name, _seconds(seconds))
+
+
+def _seconds(seconds):
+    return f"{seconds * 1000:.1f} ms" if seconds < 0.1 else f"{seconds:.2f} s"
+
+
+def read_sources_file(path):
+    """Vertex indices from a text file: integers separated by whitespace or commas; ``#`` comments."""
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as exc:
+        raise CliError(f"cannot read sources file {path}: {exc.strerror or exc}") from exc
+    indices = []
+    for lineno, line in enumerate(text.splitlines(), 1):
+        for token in line.split("#", 1)[0].replace(",", " ").split():
+            try:
+                indices.append(int(token))
+            except ValueError:
+                raise CliError(f"{path}, line {lineno}: {token!r} is not a vertex index") from None
+    if not indices:
+        raise CliError(f"sources file {path} holds no vertex indices")
+    return indices
+
+
+def read_mesh_file(path):
+    """:func:`heatcore.io.read_mesh`, with reader chatter and exits turned into one error.
+
+    meshio prints to stdout/stderr and calls ``sys.exit`` on some malformed
+    PLY files; a command must not die that way.
+    """
+    from .io import read_mesh
+
+    chatter = StringIO()
+    try:
+        with contextlib.redirect_stdout(chatter), contextlib.redirect_stderr(chatter):
+            return read_mesh(path)
+    except SystemExit:
+        detail = " ".join(chatter.getvalue().split()) or "the reader gave up"
+        raise CliError(f"cannot read mesh file {path}: {detail}") from None
+
+
+def check_sources(sources, n_vertices):
+    """Fail before the precomputation when a source index cannot be a vertex."""
+    bad = sources[(sources < 0) | (sources >= n_vertices)]
+    if bad.size:
+        raise CliError(
+            f"source vertex {bad[0]} is out of range: the mesh has {n_vertices} vertices (0..{n_vertices - 1})"
+        )
+
+
+def check_writable(paths):
+    """Fail before the precomputation when an output folder does not exist."""
+    for path in paths:
+        parent = Path(path).parent
+        if not parent.is_dir():
+            raise CliError(f"cannot write {path}: folder {parent} does not exist")
+
+
+def gather_sources(args, mesh):
+    """Sources from --source and --sources-file, else the mesh file's saved selection."""
+    sources = list(args.source or [])
+    for path in args.sources_file or []:
+        sources += read_sources_file(path)
+    if sources:
+        return np.unique(np.asarray(sources, dtype=np.int64)), "command line"
+    selected = mesh.selected_vertices()
+    if selected.size:
+        return selected, f"the selection saved in {args.mesh.name}"
+    raise CliError(
+        "no sources: give --source INDEX or --sources-file FILE, "
+        "or a PLY with selected vertices (MeshLab: save with the vertex flags)"
+    )
+
+
+def write_output(path, V, F, d, sources, colormap, isolines):
+    """Write distances by file extension: .ply (quality + colors + selection), .npy, .csv."""
+    from .colormap import colorize, to_uint8
+
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".ply":
+        from .io import write_ply
+
+        write_ply(path, V, F, d, to_uint8(colorize(d, colormap, isolines=isolines or 0)), selection=sources)
+    elif suffix == ".npy":
+        np.save(path, d)
+    elif suffix == ".csv":
+        table = np.column_stack([np.arange(len(d)), d])
+        np.savetxt(path, table, fmt=["%d", "%.17g"], delimiter=",", header="index,distance", comments="")
+    else:
+        raise CliError(f"output {path}: unknown extension {path.suffix!r}; use one of {', '.join(OUTPUT_SUFFIXES)}")
+
+
+def render_png(path, V, F, d, sources, colormap, isolines, title=None, view=None):
+    from .render import render_distance
+
+    render_distance(
+        path, V, F, d, sources=sources, colormap=colormap,
+        isolines=PNG_ISOLINES if isolines is None else isolines, title=title, **(view or {}),
+    )
+
+
+def _summary(d):
+    finite = np.isfinite(d)
+    text = f"max distance {d[finite].max():.6g}" if finite.any() else "no vertex reached"
+    if not finite.all():
+        text += f", {int((~finite).sum())} vertices unreachable (inf)"
+    return text
+
+
+# --------------------------------------------------------------------------- distance
+
+
+def _distance_arguments(p):
+    p.add_argument("mesh", type=Path, metavar="MESH",
+                   help="mesh file: PLY (keeps MeshLab's vertex selection), OBJ, OFF, STL, glTF, ...")
+    src = p.add_argument_group("sources (combined; default: the PLY's selected vertices)")
+    src.add_argument("-s", "--source", type=int, action="append", metavar="INDEX",
+                     help="source vertex index (0-based); repeat for several sources")
+    src.add_argument("--sources-file", type=Path, action="append", metavar="FILE",
+                     help="text file of 0-based vertex indices separated by whitespace or commas "
+                          "('#' starts a comment); may be repeated")
+    p.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
+                   help="output file, format by extension: .ply (quality + colors), .npy, .csv "
+                        "(index,distance); repeat for several")
+    add_output_options(p, png_help="also write a PNG picture of the distance field (matplotlib)")
+    add_solver_options(p)
+    add_common_options(p)
+
+
+@command(
+    "distance",
+    arguments=_distance_arguments,
+    help="geodesic distance from source vertices on a mesh file",
+    description="Geodesic distance from source vertices to every vertex of a triangle (or polygon) "
+    "mesh, by the heat method. Sources: --source and --sources-file; without them, the vertices "
+    "selected in a PLY saved by MeshLab (vertex flags). Output by extension: .ply (distance as "
+    "vertex quality, colormap as vertex colors, sources as the saved selection), .npy (float64 "
+    "array) or .csv (index,distance); unreachable vertices get inf.",
+)
+def run_distance(args):
+    if not args.output and args.png is None:
+        raise CliError("nothing to write: give -o/--output FILE (.ply, .npy, .csv) and/or --png PATH")
+    for out in args.output:
+        if Path(out).suffix.lower() not in OUTPUT_SUFFIXES:
+            raise CliError(f"output {out}: unknown extension; use one of {', '.join(OUTPUT_SUFFIXES)}")
+    check_writable(args.output + ([args.png] if args.png is not None else []))
+    with _stage("read mesh"):
+        mesh = read_mesh_file(args.mesh)
+    log.info("mesh: %d vertices, %d triangles", len(mesh.vertices), len(mesh.faces))
+    sources, origin = gather_sources(args, mesh)
+    check_sources(sources, len(mesh.vertices))
+    log.info("sources: %d from %s", sources.size, origin)
+    solver = build_solver(mesh.vertices, mesh.faces, args)
+    with _stage("query"):
+        d = solver.distance(sources)
+    log.info("%s", _summary(d))
+    with _stage("write"):
+        for out in args.output:
+            write_output(out, mesh.vertices, mesh.faces, d, sources, args.colormap, args.isolines)
+            print(f"wrote {out}")
+    if args.png is not None:
+        with _stage("render"):
+            render_png(args.png, mesh.vertices, mesh.faces, d, sources, args.colormap, args.isolines,
+                       title=args.mesh.name)
+        print(f"wrote {args.png}")
+    return 0
+
+
+# --------------------------------------------------------------------------- demo
+
+
+def _demo_arguments(p):
+    p.add_argument("-d", "--output-dir", default=".", metavar="DIR",
+                   help="folder for demo.ply and demo.png, created if missing (default: current folder)")
+    group = p.add_argument_group("picture and colors")
+    group.add_argument("--colormap", default="viridis", choices=_colormaps(),
+                       help="colormap of the PLY vertex colors and the PNG (default: %(default)s)")
+    group.add_argument("--isolines", type=_non_negative_int, default=None, metavar="N",
+                       help=f"number of isolines (default: none in the PLY colors, {PNG_ISOLINES} in the PNG)")
+    add_solver_options(p)
+    add_common_options(p)
+
+
+@command(
+    "demo",
+    arguments=_demo_arguments,
+    help="distance from spot's nose on the bundled mesh: writes demo.ply and demo.png",
+    description="Run the heat method on the bundled spot mesh (Keenan Crane, public domain) from a "
+    f"vertex at the tip of the nose (vertex {DEMO_SOURCE}), and write demo.ply (distance as vertex "
+    "quality and colors) and demo.png (a picture with isolines) into the output folder.",
+)
+def run_demo(args):
+    from .io import demo_mesh_path
+
+    out_dir = Path(args.output_dir)
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise CliError(f"cannot create output folder {out_dir}: {exc.strerror or exc}") from exc
+    with _stage("read mesh"):
+        mesh = read_mesh_file(demo_mesh_path())
+    log.info("mesh: spot, %d vertices, %d triangles", len(mesh.vertices), len(mesh.faces))
+    sources = np.array([DEMO_SOURCE])
+    solver = build_solver(mesh.vertices, mesh.faces, args)
+    with _stage("query"):
+        d = solver.distance(sources)
+    log.info("%s", _summary(d))
+    ply, png = out_dir / "demo.ply", out_dir / "demo.png"
+    with _stage("write"):
+        write_output(ply, mesh.vertices, mesh.faces, d, sources, args.colormap, args.isolines)
+    with _stage("render"):
+        render_png(png, mesh.vertices, mesh.faces, d, sources, args.colormap, args.isolines,
+                   title="geodesic distance from spot's nose (heat method)", view=DEMO_VIEW)
+    t = _stage.timings
+    print(f"wrote {ply}  (distance as vertex quality and colors; open it in MeshLab)")
+    print(f"wrote {png}")
+    print(f"spot: {len(mesh.vertices)} vertices, source vertex {DEMO_SOURCE}; "
+          f"precompute {_seconds(t['precompute'])}, query {_seconds(t['query'])}, {_summary(d)}")
+    return 0
+
+
+# --------------------------------------------------------------------------- main
+
+
+def build_parser():
+    from . import __version__
+
+    parser = argparse.ArgumentParser(
+        prog="heatcore",
+        description="Geodesic distance on meshes by heat flow (Crane, Weischedel, Wardetzky 2013). "
+        "Run 'heatcore COMMAND --help' for the options of a command.",
+    )
+    parser.add_argument("--version", action="version", version=f"heatcore {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for name, cmd in COMMANDS.items():
+        p = sub.add_parser(name, help=cmd.help, description=cmd.description)
+        cmd.arguments(p)
+        p.set_defaults(run=cmd.run)
+    return parser
+
+
+class _StderrHandler(logging.Handler):
+    """Writes ``heatcore: message`` to the current ``sys.stderr`` (captured in tests)."""
+
+    def emit(self, record):
+        try:
+            sys.stderr.write(f"heatcore: {self.format(record)}\n")
+        except Exception:  # pragma: no cover - logging must never raise
+            self.handleError(record)
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    sys.stderr.write(f"heatcore: warning: {message}\n")
+
+
+def main(argv=None):
+    """Run the ``heatcore`` command; returns the exit status.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Arguments without the program name (default: ``sys.argv[1:]``).
+    """
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help, --version, usage errors
+        return exc.code if isinstance(exc.code, int) else 1
+
+    root = logging.getLogger("heatcore")
+    handler = _StderrHandler()
+    saved = root.level, root.propagate
+    root.addHandler(handler)
+    root.setLevel(logging.WARNING if args.quiet else logging.INFO)
+    root.propagate = False
+    _stage.timings = {}
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("always", HeatcoreWarning)
+            warnings.showwarning = _show_warning
+            return args.run(args)
+    except (HeatcoreError, OSError) as exc:
+        message = str(exc)
+        if isinstance(exc, OSError) and exc.filename is not None:
+            message = f"{exc.filename}: {exc.strerror or exc}"
+        sys.stderr.write(f"heatcore: error: {message}\n")
+        return 1
+    except KeyboardInterrupt:
+        sys.stderr.write("heatcore: interrupted\n")
+        return 130
+    finally:
+        root.removeHandler(handler)
+        root.setLevel(saved[0])
+        root.propagate = saved[1]
+
+
+if __name__ == "__main__":
+    sys.exit(main())
