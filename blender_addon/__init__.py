@@ -1,0 +1,43 @@
+"""Heat Geodesics: a Blender add-on/extension computing geodesic distance by the heat method.
+
+Select vertices, press *Geodesic Distance* in View3D > Sidebar > Geodesic (or
+run ``bpy.ops.mesh.heat_geodesic_distance()``), and the mesh gets a FLOAT
+point attribute with the distance and an active color attribute showing it.
+All numerics live in heatcore; this package only moves data between Blender
+and heatcore.
+
+Modules: ``adapters`` (bpy <-> arrays), ``cache`` (prefactored solvers),
+``api`` (:func:`compute_geodesic_distance` for scripts), ``properties``,
+``operator``, ``panel``.
+
+Examples
+--------
+>>> import bpy                                                   # doctest: +SKIP
+>>> bpy.ops.mesh.heat_geodesic_distance(isolines=8)              # doctest: +SKIP
+>>> from bl_ext.user_default.heat_geodesics import compute_geodesic_distance  # doctest: +SKIP
+>>> compute_geodesic_distance(bpy.context.object, sources=[0]).max_distance   # doctest: +SKIP
+"""
+
+import bpy
+
+from . import operator, panel, properties
+from .adapters import AddonError
+from .api import GeodesicResult, compute_geodesic_distance
+from .cache import SOLVERS
+
+__all__ = ["compute_geodesic_distance", "GeodesicResult", "AddonError", "register", "unregister"]
+
+
+def register():
+    """Register the settings, the operator and the sidebar panel."""
+    properties.register()
+    bpy.utils.register_class(operator.MESH_OT_heat_geodesic_distance)
+    panel.register()
+
+
+def unregister():
+    """Unregister everything :func:`register` added and drop cached solvers."""
+    panel.unregister()
+    bpy.utils.unregister_class(operator.MESH_OT_heat_geodesic_distance)
+    properties.unregister()
+    SOLVERS.clear()

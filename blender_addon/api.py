@@ -1,0 +1,221 @@
+"""Script API: geodesic distance on a Blender mesh object in one call.
+
+The operator is a thin wrapper around :func:`compute_geodesic_distance`, so
+scripts and the button do exactly the same thing.
+
+Examples
+--------
+>>> from bl_ext.user_default.heat_geodesics import compute_geodesic_distance  # doctest: +SKIP
+>>> result = compute_geodesic_distance(bpy.context.object, isolines=10)       # doctest: +SKIP
+>>> result.max_distance, result.seconds                                       # doctest: +SKIP
+"""
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import adapters
+from ._heatcore import colormap as colormaps
+from ._heatcore import heatcore
+from .adapters import AddonError
+from .cache import SOLVERS
+
+DEFAULT_ATTRIBUTE = "geodesic_distance"
+DEFAULT_COLOR_ATTRIBUTE = "geodesic_distance_color"
+
+#: Options that shape the domain (``heatcore.TriangleMesh``); every other
+#: keyword goes to ``heatcore.HeatSolver`` unchanged.
+MESH_OPTIONS = {"robust": True, "refine": "auto"}
+
+
+@dataclass
+class GeodesicResult:
+    """What one run computed.
+
+    Attributes
+    ----------
+    distance : (n,) float array
+        Distance per vertex in object units (``inf`` where unreachable).
+    sources : (k,) int array
+        The source vertices.
+    max_distance : float
+        Largest finite distance.
+    n_vertices : int
+    seconds : float
+        Wall time of the whole run.
+    solver_seconds : float
+        Time spent building the solver (0 when it came from the cache).
+    cached : bool
+        Whether the prefactored solver was reused.
+    """
+
+    distance: np.ndarray
+    sources: np.ndarray
+    max_distance: float
+    n_vertices: int
+    seconds: float
+    solver_seconds: float
+    cached: bool
+
+
+def _no_progress(fraction, message):
+    pass
+
+
+def resolve_sources(obj, sources=None, vertex_group=None):
+    """Source vertex indices: given ones, a vertex group's members, or the selection.
+
+    Raises
+    ------
+    AddonError
+        No source vertex, or indices outside the mesh.
+    """
+    n = len(obj.data.vertices)
+    if sources is not None:
+        src = np.unique(np.asarray(sources, dtype=np.int64).ravel())
+        what = "the given source list"
+    elif vertex_group:
+        src = adapters.vertex_group_members(obj, vertex_group)
+        what = f"vertex group {vertex_group!r}"
+    else:
+        src = adapters.selected_vertices(obj.data)
+        what = "the selection"
+    if src.size == 0:
+        hint = (
+            "select one or more vertices in Edit Mode"
+            if sources is None and not vertex_group
+            else "give at least one vertex"
+        )
+        raise AddonError(f"no source vertices: {what} of {obj.name!r} is empty; {hint}")
+    if src.min() < 0 or src.max() >= n:
+        bad = int(src[(src < 0) | (src >= n)][0])
+        raise AddonError(f"source vertex {bad} is outside the mesh (valid indices are 0..{n - 1})")
+    return src
+
+
+def compute_geodesic_distance(
+    obj,
+    sources=None,
+    *,
+    vertex_group=None,
+    attribute=DEFAULT_ATTRIBUTE,
+    color_attribute=DEFAULT_COLOR_ATTRIBUTE,
+    colormap="viridis",
+    isolines=0,
+    normalize=False,
+    weight_group=None,
+    progress=None,
+    **solver_options,
+):
+    """Geodesic distance from source vertices of a mesh object, written back as attributes.
+
+    Works in Object Mode and Edit Mode (the Edit Mode selection and geometry
+    are synced first; the object is returned to its mode). Only the named
+    outputs are created or overwritten; nothing else on the mesh changes.
+
+    Parameters
+    ----------
+    obj : bpy.types.Object
+        A mesh object. Distances are measured in its local coordinates.
+    sources : sequence of int, optional
+        Source vertex indices. Default: the vertex group ``vertex_group`` if
+        given, else the selected vertices.
+    vertex_group : str, optional
+        Use the members of this vertex group (weight > 0) as sources.
+    attribute : str or None
+        FLOAT attribute on the POINT domain that receives the distance
+        (``-1`` at vertices no source reaches). None: not written.
+    color_attribute : str or None
+        FLOAT_COLOR POINT attribute that receives the colors; it becomes the
+        active and render color. None: not written.
+    colormap : str
+        A colormap of ``heatcore.colormap.COLORMAPS`` (viridis, magma, ...).
+    isolines : int
+        Number of dark isoline stripes in the colors (0 for none).
+    normalize : bool
+        Divide the distance attribute by the largest distance (values in [0, 1]).
+    weight_group : str, optional
+        Also write the normalized distance (0 at the sources, 1 farthest) as
+        weights of this vertex group, for modifiers.
+    progress : callable, optional
+        ``progress(fraction, message)`` called between stages.
+    **solver_options
+        ``robust`` and ``refine`` go to :class:`heatcore.TriangleMesh`; all
+        others (``m``, ``boundary``, ``backend``, ...) to
+        :class:`heatcore.HeatSolver`.
+
+    Returns
+    -------
+    GeodesicResult
+
+    Raises
+    ------
+    AddonError
+        Not a mesh, no faces, no sources, or an output name taken by
+        another kind of attribute. Nothing is modified.
+    heatcore.HeatcoreError
+        Invalid options or geometry (for example a source on a loose vertex).
+        Nothing is modified.
+    """
+    start = time.perf_counter()
+    progress = progress or _no_progress
+    if obj is None or obj.type != "MESH":
+        raise AddonError(f"{getattr(obj, 'name', obj)!r} is not a mesh object")
+    mesh = obj.data
+    if colormap not in colormaps.COLORMAPS:
+        raise AddonError(f"unknown colormap {colormap!r}; choose one of {sorted(colormaps.COLORMAPS)}")
+    for name, data_type in ((attribute, "FLOAT"), (color_attribute, "FLOAT_COLOR")):
+        if name is not None:
+            adapters.check_attribute_free(mesh, name, "POINT", data_type)
+
+    progress(0.05, "reading mesh")
+    if obj.mode == "EDIT":
+        obj.update_from_editmode()
+    V, F = adapters.mesh_arrays(mesh)
+    if F.shape[0] == 0:
+        raise AddonError(
+            f"mesh {mesh.name!r} has no faces: geodesic distance needs a surface (point clouds are not supported yet)"
+        )
+    src = resolve_sources(obj, sources, vertex_group)
+
+    mesh_options = {k: solver_options.pop(k, default) for k, default in MESH_OPTIONS.items()}
+    solver_seconds = 0.0
+
+    def build():
+        nonlocal solver_seconds
+        progress(0.1, f"building the heat solver for {len(V):,} vertices")
+        t0 = time.perf_counter()
+        domain = heatcore.TriangleMesh(V, F, **mesh_options)
+        solver = heatcore.HeatSolver(domain, **solver_options)
+        solver_seconds = time.perf_counter() - t0
+        return solver
+
+    solver, cached = SOLVERS.get(mesh.session_uid, V, F, {**mesh_options, **solver_options}, build)
+    progress(0.8, "solving for the distance")
+    d = solver.distance(src)
+    finite = np.isfinite(d)
+    dmax = float(d[finite].max()) if finite.any() else 0.0
+    scale = 1.0 / dmax if (normalize and dmax > 0) else 1.0
+
+    progress(0.9, "writing attributes")
+    with adapters.object_mode(obj):
+        if attribute is not None:
+            adapters.write_float_attribute(mesh, attribute, np.where(finite, d * scale, adapters.UNREACHABLE_VALUE))
+        if color_attribute is not None:
+            rgb = colormaps.colorize(d, colormap=colormap, isolines=int(isolines))
+            adapters.write_color_attribute(mesh, color_attribute, rgb)
+        if weight_group:
+            weights = np.where(finite, d / dmax if dmax > 0 else 0.0, np.nan)
+            adapters.write_vertex_group(obj, weight_group, np.clip(weights, 0.0, 1.0))
+        mesh.update()
+    progress(1.0, "done")
+    return GeodesicResult(
+        distance=d,
+        sources=src,
+        max_distance=dmax,
+        n_vertices=len(V),
+        seconds=time.perf_counter() - start,
+        solver_seconds=solver_seconds,
+        cached=cached,
+    )

@@ -1,0 +1,67 @@
+"""Sidebar panel: View3D > Sidebar > Geodesic."""
+
+import bpy
+
+
+class VIEW3D_PT_heat_geodesic(bpy.types.Panel):
+    """Button, options and last result of the geodesic distance operator."""
+
+    bl_label = "Geodesic Distance"
+    bl_idname = "VIEW3D_PT_heat_geodesic"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "Geodesic"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        settings = context.scene.heat_geodesic
+        obj = context.active_object
+
+        layout.operator("mesh.heat_geodesic_distance", icon="DRIVER_DISTANCE")
+
+        col = layout.column(heading="Sources")
+        col.prop(settings, "source", text="Sources")
+        if settings.source == "VERTEX_GROUP":
+            if obj is not None and obj.type == "MESH":
+                col.prop_search(settings, "vertex_group", obj, "vertex_groups", text="Group")
+            else:
+                col.prop(settings, "vertex_group", text="Group")
+
+        col = layout.column(heading="Solver")
+        col.prop(settings, "time_factor")
+        col.prop(settings, "boundary")
+        col.prop(settings, "robust")
+
+        col = layout.column(heading="Output")
+        col.prop(settings, "attribute")
+        col.prop(settings, "normalize")
+        col.prop(settings, "color_attribute", text="Colors")
+        col.prop(settings, "colormap")
+        col.prop(settings, "isolines")
+        col.prop(settings, "write_weights")
+        if settings.write_weights:
+            col.prop(settings, "weight_group")
+
+        stats = context.window_manager.heat_geodesic_stats
+        if stats.valid:
+            box = layout.box()
+            box.label(text=f"Last: {stats.object_name}", icon="INFO")
+            box.label(text=f"{stats.vertices:,} vertices, {stats.sources:,} sources")
+            box.label(text=f"Max distance {stats.max_distance:.4g}")
+            solver = "cached solver" if stats.cached else f"solver {stats.solver_seconds:.2f} s"
+            box.label(text=f"{stats.seconds:.2f} s ({solver})")
+
+
+CLASSES = (VIEW3D_PT_heat_geodesic,)
+
+
+def register():
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+
+
+def unregister():
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)
