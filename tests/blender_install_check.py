@@ -1,0 +1,63 @@
+"""Install the built extension zip into a fresh Blender user folder and run its operator.
+
+Run by tests/test_blender.py in a subprocess whose ``sys.path`` holds only
+bpy and numpy (``python -S`` with ``PYTHONPATH``) and whose
+``BLENDER_USER_RESOURCES`` is a temporary folder, so that heatcore, scipy and
+cholespy can only come from the installed extension. Prints one JSON line.
+
+Usage: python -S blender_install_check.py EXTENSION.zip
+"""
+
+import json
+import sys
+
+import bpy
+import numpy as np
+
+
+def main(zip_path):
+    result = bpy.ops.extensions.package_install_files(filepath=zip_path, repo="user_default", enable_on_install=True)
+    import addon_utils
+
+    module = "bl_ext.user_default.heat_geodesics"
+    addon = sys.modules.get(module)
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=3, radius=2.0)
+    obj = bpy.context.active_object
+    n = len(obj.data.vertices)
+    co = np.empty(3 * n)
+    obj.data.vertices.foreach_get("co", co)
+    co = co.reshape(-1, 3)
+    top = int(np.argmax(co[:, 2]))
+    select = np.zeros(n, dtype=bool)
+    select[top] = True
+    obj.data.vertices.foreach_set("select", select)
+    ran = bpy.ops.mesh.heat_geodesic_distance(isolines=4)
+    values = np.empty(n, dtype=np.float32)
+    obj.data.attributes["geodesic_distance"].data.foreach_get("value", values)
+    exact = 2.0 * np.arccos(np.clip(co @ co[top] / 4.0, -1.0, 1.0))
+    hc = sys.modules[module + "._vendor.heatcore"]
+    import cholespy
+    import scipy
+
+    print(
+        json.dumps(
+            {
+                "install": sorted(result),
+                "enabled": addon_utils.check(module)[1],
+                "addon_file": getattr(addon, "__file__", None),
+                "extensions_dir": bpy.utils.user_resource("EXTENSIONS"),
+                "heatcore_file": hc.__file__,
+                "scipy_file": scipy.__file__,
+                "cholespy_file": cholespy.__file__,
+                "operator": sorted(ran),
+                "color_active": obj.data.color_attributes.active_color.name,
+                "n": n,
+                "distance": values.tolist(),
+                "exact": exact.tolist(),
+            }
+        )
+    )
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])
