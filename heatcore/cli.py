@@ -128,7 +128,8 @@ def build_solver(V, F, args):
     return solver
 
 
-def add_output_options(parser, png_help):
+def add_output_options(parser, png_help=None):
+    """--colormap, --isolines and (given ``png_help``) --png."""
     group = parser.add_argument_group("picture and colors")
     group.add_argument("--colormap", default="viridis", choices=_colormaps(),
                        help="perceptual colormap of the PLY vertex colors and the PNG (default: %(default)s)")
@@ -136,7 +137,8 @@ def add_output_options(parser, png_help):
                        help=f"number of evenly spaced isolines: dark stripes in the PLY vertex colors "
                             f"and lines in the PNG (default: none in the PLY, {PNG_ISOLINES} in the PNG; "
                             f"0: none)")
-    group.add_argument("--png", type=Path, default=None, metavar="PATH", help=png_help)
+    if png_help:
+        group.add_argument("--png", type=Path, default=None, metavar="PATH", help=png_help)
 
 
 def add_common_options(parser):
@@ -173,7 +175,7 @@ def command(name, *, arguments, help, description=None):
 
 
 class _stage:
-    """Context manager that logs ``<name>: <seconds> s`` on stderr and records it."""
+    """Context manager that logs ``<name>: <time>`` (stderr via the ``heatcore`` logger) and records it."""
 
     timings = {}
 
@@ -365,11 +367,7 @@ def run_distance(args):
 def _demo_arguments(p):
     p.add_argument("-d", "--output-dir", default=".", metavar="DIR",
                    help="folder for demo.ply and demo.png, created if missing (default: current folder)")
-    group = p.add_argument_group("picture and colors")
-    group.add_argument("--colormap", default="viridis", choices=_colormaps(),
-                       help="colormap of the PLY vertex colors and the PNG (default: %(default)s)")
-    group.add_argument("--isolines", type=_non_negative_int, default=None, metavar="N",
-                       help=f"number of isolines (default: none in the PLY colors, {PNG_ISOLINES} in the PNG)")
+    add_output_options(p)
     add_solver_options(p)
     add_common_options(p)
 
