@@ -420,10 +420,10 @@ def run(args):
     if args.sources is not None:
         _select_vertices(ms, mesh, args.sources)
     elif args.select is not None:
-        try:
-            ms.compute_selection_by_condition_per_vertex(condselect=args.select)
-        except pymeshlab.PyMeshLabException as exc:
-            raise InvalidSourceError(f"MeshLab cannot evaluate --select {args.select!r}: {exc}") from exc
+        problem = check_condition(args.select)
+        if problem:
+            raise InvalidSourceError(f"MeshLab cannot evaluate --select {args.select!r}: {problem}")
+        ms.compute_selection_by_condition_per_vertex(condselect=args.select)
         if not mesh.vertex_selection_array().any():
             raise InvalidSourceError(f"--select {args.select!r} selects no vertex")
 
@@ -436,6 +436,37 @@ def run(args):
     _save_ply(ms, output, binary=not args.ascii)
     stats["output"] = str(output)
     return stats
+
+
+_CHECK_CONDITION = """
+import sys, numpy as np, pymeshlab
+ms = pymeshlab.MeshSet()
+ms.add_mesh(pymeshlab.Mesh(np.eye(3), np.array([[0, 1, 2]], dtype=np.int32)))
+try:
+    ms.compute_selection_by_condition_per_vertex(condselect=sys.argv[1])
+except pymeshlab.PyMeshLabException as exc:
+    print(str(exc).strip().splitlines()[-1])
+"""
+
+
+def check_condition(condition):
+    """Why MeshLab cannot parse a per-vertex condition, or ``""`` when it can.
+
+    The check runs in a child process: in pymeshlab 2025.7 a condition that
+    fails to parse corrupts the process's memory (a later ``load_new_mesh``
+    crashes with ``std::bad_alloc`` or a segmentation fault).
+    """
+    import subprocess
+
+    try:
+        done = subprocess.run(
+            [sys.executable, "-c", _CHECK_CONDITION, condition], capture_output=True, text=True, timeout=120
+        )
+    except subprocess.TimeoutExpired:
+        return "checking the condition timed out"
+    if done.returncode != 0:
+        return f"the check crashed ({done.stderr.strip().splitlines()[-1:] or done.returncode})"
+    return done.stdout.strip()
 
 
 def _select_vertices(ms, mesh, indices):
