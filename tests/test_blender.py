@@ -1,0 +1,421 @@
+"""Blender add-on tests with the real ``bpy`` module (Blender 5.0 headless).
+
+Values are checked against heatcore called directly on the same arrays and
+against exact distances: great-circle distance on spheres, Euclidean distance
+on a flat grid. The last test builds the extension zip for this platform,
+installs it into a fresh Blender user folder and runs the installed operator.
+"""
+
+import importlib.util
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import bmesh
+import bpy
+import numpy as np
+import pytest
+
+import heatcore as hc
+from heatcore.colormap import colorize
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def _load(name, path, package_dir=None):
+    spec = importlib.util.spec_from_file_location(
+        name, path, submodule_search_locations=[str(package_dir)] if package_dir else None
+    )
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.fixture(scope="module")
+def addon():
+    module = _load("blender_addon", REPO / "blender_addon" / "__init__.py", REPO / "blender_addon")
+    module.register()
+    yield module
+    module.unregister()
+
+
+@pytest.fixture(autouse=True)
+def empty_scene():
+    """Each test starts in Object Mode with no objects or meshes."""
+    if bpy.context.object is not None and bpy.context.object.mode != "OBJECT":
+        bpy.ops.object.mode_set(mode="OBJECT")
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    for mesh in list(bpy.data.meshes):
+        bpy.data.meshes.remove(mesh)
+    yield
+
+
+# ---------------------------------------------------------------- helpers
+
+
+def coords(mesh):
+    co = np.empty(3 * len(mesh.vertices))
+    mesh.vertices.foreach_get("co", co)
+    return co.reshape(-1, 3)
+
+
+def loop_triangles(mesh):
+    mesh.calc_loop_triangles()
+    tris = np.empty(3 * len(mesh.loop_triangles), dtype=np.int64)
+    mesh.loop_triangles.foreach_get("vertices", tris)
+    return tris.reshape(-1, 3)
+
+
+#: Field and width of each attribute type, for ``foreach_get``.
+ATTRIBUTE_FIELDS = {
+    "FLOAT": ("value", 1), "INT": ("value", 1), "BOOLEAN": ("value", 1), "INT8": ("value", 1),
+    "FLOAT_VECTOR": ("vector", 3), "FLOAT2": ("vector", 2), "INT32_2D": ("value", 2),
+    "FLOAT_COLOR": ("color", 4), "BYTE_COLOR": ("color", 4), "QUATERNION": ("value", 4),
+}
+
+
+def attribute(mesh, name):
+    attr = mesh.attributes[name]
+    field, width = ATTRIBUTE_FIELDS[attr.data_type]
+    dtype = np.int32 if attr.data_type in ("INT", "BOOLEAN", "INT8", "INT32_2D") else np.float64
+    out = np.empty(width * len(attr.data), dtype=dtype)
+    attr.data.foreach_get(field, out)
+    return out.reshape(len(attr.data), -1).squeeze()
+
+
+def snapshot(obj):
+    """Everything a run must not touch: attributes (values included), vertex groups, mode."""
+    mesh = obj.data
+    # Selection layers are compared as the selection they hold (Blender drops
+    # them when nothing is selected).
+    data = {
+        a.name: (a.domain, a.data_type, attribute(mesh, a.name).copy())
+        for a in mesh.attributes
+        if not a.name.startswith(".select_")
+    }
+    select = np.zeros(len(mesh.vertices), dtype=bool)
+    mesh.vertices.foreach_get("select", select)
+    data["selection"] = ("POINT", "BOOLEAN", select)
+    groups = {g.name: [(v.index, g.weight(v.index)) for v in mesh.vertices if g.index in [e.group for e in v.groups]]
+              for g in obj.vertex_groups}
+    active = mesh.color_attributes.active_color.name if mesh.color_attributes.active_color else None
+    return data, groups, active, obj.mode
+
+
+def assert_same_snapshot(before, after, ignore=()):
+    data_b, groups_b, active_b, mode_b = before
+    data_a, groups_a, active_a, mode_a = after
+    assert set(data_b) - set(ignore) == set(data_a) - set(ignore)
+    for name in set(data_b) - set(ignore):
+        assert data_b[name][:2] == data_a[name][:2], name
+        np.testing.assert_array_equal(data_b[name][2], data_a[name][2], err_msg=name)
+    assert {k: v for k, v in groups_b.items() if k not in ignore} == {
+        k: v for k, v in groups_a.items() if k not in ignore
+    }
+    assert mode_b == mode_a
+
+
+def select_only(obj, indices):
+    sel = np.zeros(len(obj.data.vertices), dtype=bool)
+    sel[np.asarray(indices, dtype=int)] = True
+    obj.data.vertices.foreach_set("select", sel)
+    obj.data.update()
+
+
+def ico_sphere(subdivisions=5, radius=1.0):
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=subdivisions, radius=radius)
+    return bpy.context.active_object
+
+
+def run(obj, **options):
+    with bpy.context.temp_override(active_object=obj, object=obj):
+        return bpy.ops.mesh.heat_geodesic_distance(**options)
+
+
+def reference(obj, sources, m=1.0, boundary="robin", robust=True):
+    """heatcore on the same geometry, called directly."""
+    V, F = coords(obj.data), loop_triangles(obj.data)
+    return hc.HeatSolver(hc.TriangleMesh(V, F, robust=robust), m=m, boundary=boundary).distance(sources)
+
+
+def great_circle(V, source, radius):
+    cos = V @ V[source] / (np.linalg.norm(V, axis=1) * np.linalg.norm(V[source]))
+    return radius * np.arccos(np.clip(cos, -1.0, 1.0))
+
+
+def mean_relative_error(d, exact):
+    mask = exact > 0
+    return float(np.mean(np.abs(d[mask] - exact[mask]) / exact[mask]))
+
+
+def srgb_to_linear(c):
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
+# ---------------------------------------------------------------- tests
+
+
+def test_register_unregister(addon):
+    assert hasattr(bpy.types, "MESH_OT_heat_geodesic_distance")
+    assert hasattr(bpy.types, "VIEW3D_PT_heat_geodesic")
+    assert bpy.types.VIEW3D_PT_heat_geodesic.bl_category == "Geodesic"
+    assert hasattr(bpy.types.Scene, "heat_geodesic")
+    assert {"REGISTER", "UNDO"} <= bpy.types.MESH_OT_heat_geodesic_distance.bl_options
+    # poll: only a mesh as active object
+    bpy.ops.object.empty_add()
+    assert not bpy.ops.mesh.heat_geodesic_distance.poll()
+    ico_sphere(subdivisions=1)
+    assert bpy.ops.mesh.heat_geodesic_distance.poll()
+
+    addon.unregister()
+    try:
+        assert not hasattr(bpy.types, "MESH_OT_heat_geodesic_distance")
+        assert not hasattr(bpy.types, "VIEW3D_PT_heat_geodesic")
+        assert not hasattr(bpy.types.Scene, "heat_geodesic")
+        assert not hasattr(bpy.types.WindowManager, "heat_geodesic_stats")
+    finally:
+        addon.register()
+    assert hasattr(bpy.types, "MESH_OT_heat_geodesic_distance")
+
+
+def test_object_mode_sphere_matches_heatcore_and_great_circle(addon):
+    radius = 1.5
+    obj = ico_sphere(subdivisions=5, radius=radius)  # 10,242 vertices
+    V = coords(obj.data)
+    pole = int(np.argmax(V[:, 2]))
+    select_only(obj, [pole])
+
+    assert run(obj, isolines=8, colormap="magma") == {"FINISHED"}
+    assert obj.mode == "OBJECT"
+
+    d = attribute(obj.data, "geodesic_distance")
+    expected = reference(obj, [pole])
+    np.testing.assert_allclose(d, expected, rtol=1e-6, atol=1e-6)
+    exact = great_circle(V, pole, radius)
+    assert d[pole] == 0.0
+    assert mean_relative_error(d, exact) < 0.01
+    assert abs(d.max() - np.pi * radius) < 0.02 * np.pi * radius
+
+    colors = obj.data.color_attributes
+    assert colors.active_color.name == "geodesic_distance_color"
+    assert colors.render_color_index == colors.active_color_index
+    assert colors.active_color.domain == "POINT" and colors.active_color.data_type == "FLOAT_COLOR"
+    rgba = attribute(obj.data, "geodesic_distance_color")
+    want = srgb_to_linear(colorize(expected, colormap="magma", isolines=8))
+    np.testing.assert_allclose(rgba[:, :3], want, atol=1e-5)
+    np.testing.assert_array_equal(rgba[:, 3], 1.0)
+
+    stats = bpy.context.window_manager.heat_geodesic_stats
+    assert stats.valid and stats.object_name == obj.name
+    assert stats.vertices == len(V) and stats.sources == 1
+    assert stats.max_distance == pytest.approx(expected.max(), rel=1e-6)
+
+
+def test_edit_mode_selection_is_synced_and_mode_restored(addon):
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=64, ring_count=32, radius=1.0)  # quads and triangles
+    obj = bpy.context.active_object
+    V = coords(obj.data)
+    equator = int(np.argmin(np.abs(V[:, 2]) + np.abs(V[:, 1]) - V[:, 0]))  # on the equator, +x side
+    assert abs(V[equator, 2]) < 1e-6
+
+    bpy.ops.object.mode_set(mode="EDIT")
+    bpy.ops.mesh.select_all(action="DESELECT")
+    bm = bmesh.from_edit_mesh(obj.data)
+    bm.verts.ensure_lookup_table()
+    bm.verts[equator].select_set(True)
+    bm.select_flush_mode()
+    bmesh.update_edit_mesh(obj.data)
+    assert obj.data.vertices[equator].select  # primitives come fully selected: this is the stale object data
+
+    assert run(obj) == {"FINISHED"}
+    assert obj.mode == "EDIT"
+    bm = bmesh.from_edit_mesh(obj.data)
+    assert sum(v.select for v in bm.verts) == 1  # the selection is untouched
+
+    bpy.ops.object.mode_set(mode="OBJECT")
+    d = attribute(obj.data, "geodesic_distance")
+    assert d[equator] == 0.0 and np.count_nonzero(d == 0.0) == 1
+    np.testing.assert_allclose(d, reference(obj, [equator]), rtol=1e-6, atol=1e-6)
+    assert mean_relative_error(d, great_circle(V, equator, 1.0)) < 0.02  # measured 0.015 (faceted UV sphere)
+
+
+def test_no_selection_reports_error_and_changes_nothing(addon):
+    obj = ico_sphere(subdivisions=3)
+    obj.data.attributes.new("temperature", "FLOAT", "POINT").data.foreach_set(
+        "value", np.linspace(0, 1, len(obj.data.vertices))
+    )
+    select_only(obj, [])
+    before = snapshot(obj)
+    with pytest.raises(RuntimeError, match="no source vertices"):
+        run(obj)
+    assert_same_snapshot(before, snapshot(obj))
+    assert "geodesic_distance" not in obj.data.attributes
+
+    bpy.ops.object.mode_set(mode="EDIT")
+    bpy.ops.mesh.select_all(action="DESELECT")
+    with pytest.raises(RuntimeError, match="select one or more vertices in Edit Mode"):
+        run(obj)
+    assert obj.mode == "EDIT"
+    bpy.ops.object.mode_set(mode="OBJECT")
+    assert_same_snapshot(before, snapshot(obj))
+
+
+def test_other_data_preserved_and_rerun_overwrites(addon):
+    obj = ico_sphere(subdivisions=4, radius=1.0)
+    mesh = obj.data
+    n = len(mesh.vertices)
+    mesh.attributes.new("temperature", "FLOAT", "POINT").data.foreach_set("value", np.linspace(-1, 1, n))
+    mesh.attributes.new("region", "INT", "FACE").data.foreach_set("value", np.arange(len(mesh.polygons)) % 7)
+    paint = mesh.color_attributes.new("paint", "BYTE_COLOR", "CORNER")
+    paint.data.foreach_set("color", np.tile([0.2, 0.4, 0.6, 1.0], len(paint.data)))
+    mesh.uv_layers.new(name="Second UV")
+    pin = obj.vertex_groups.new(name="pin")
+    pin.add(list(range(0, n, 3)), 0.75, "REPLACE")
+    geometry = coords(mesh).copy(), loop_triangles(mesh).copy()
+    before = snapshot(obj)
+    ours = ("geodesic_distance", "geodesic_distance_color")
+
+    select_only(obj, [0])
+    assert run(obj) == {"FINISHED"}
+    first = attribute(mesh, "geodesic_distance").copy()
+    n_attributes = len(mesh.attributes)
+
+    select_only(obj, [n - 1])
+    assert run(obj, write_weights=True, weight_group="distance_weight") == {"FINISHED"}
+    second = attribute(mesh, "geodesic_distance")
+    expected = reference(obj, [n - 1])
+    np.testing.assert_allclose(second, expected, rtol=1e-6, atol=1e-6)
+    assert not np.allclose(first, second)
+    assert len(mesh.attributes) == n_attributes  # overwritten, not duplicated
+    assert [a.name for a in mesh.attributes].count("geodesic_distance") == 1
+
+    weights = obj.vertex_groups["distance_weight"]
+    w = np.array([weights.weight(i) for i in range(n)])
+    np.testing.assert_allclose(w, expected / expected.max(), atol=1e-6)
+
+    # The user's data and the geometry are untouched (the selection is ours to change here).
+    assert_same_snapshot(before, snapshot(obj), ignore=(*ours, "distance_weight", "selection"))
+    np.testing.assert_array_equal(coords(mesh), geometry[0])
+    np.testing.assert_array_equal(loop_triangles(mesh), geometry[1])
+    assert {uv.name for uv in mesh.uv_layers} == {"UVMap", "Second UV"}
+    np.testing.assert_allclose(attribute(mesh, "paint"), before[0]["paint"][2])
+
+
+def test_name_clash_keeps_user_attribute(addon):
+    obj = ico_sphere(subdivisions=3)
+    user = obj.data.attributes.new("geodesic_distance", "INT", "FACE")
+    user.data.foreach_set("value", np.arange(len(user.data)))
+    select_only(obj, [0])
+    before = snapshot(obj)
+    with pytest.raises(RuntimeError, match="already has an attribute 'geodesic_distance' of type INT"):
+        run(obj)
+    assert_same_snapshot(before, snapshot(obj))
+
+
+def test_vertex_group_sources_and_flat_grid(addon):
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=61, y_subdivisions=61, size=2.0)  # quads, with boundary
+    obj = bpy.context.active_object
+    V = coords(obj.data)
+    center = int(np.argmin(np.linalg.norm(V, axis=1)))
+    corner = int(np.argmin(V[:, 0] + V[:, 1]))
+    seeds = obj.vertex_groups.new(name="seeds")
+    seeds.add([center, corner], 1.0, "REPLACE")
+
+    assert run(obj, source="VERTEX_GROUP", vertex_group="seeds", boundary="neumann") == {"FINISHED"}
+    d = attribute(obj.data, "geodesic_distance")
+    np.testing.assert_allclose(d, reference(obj, [center, corner], boundary="neumann"), rtol=1e-6, atol=1e-6)
+    euclid = np.minimum(np.linalg.norm(V - V[center], axis=1), np.linalg.norm(V - V[corner], axis=1))
+    assert mean_relative_error(d, euclid) < 0.02
+
+    with pytest.raises(RuntimeError, match="has no vertex group 'nope'"):
+        run(obj, source="VERTEX_GROUP", vertex_group="nope")
+
+
+def test_script_api_options_and_cache(addon):
+    obj = ico_sphere(subdivisions=4, radius=2.0)
+    api = addon.compute_geodesic_distance
+    addon.SOLVERS.clear()
+
+    first = api(obj, sources=[0], attribute="d", color_attribute=None)
+    assert not first.cached and first.solver_seconds > 0
+    second = api(obj, sources=[5, 9], attribute="d", color_attribute=None, normalize=True)
+    assert second.cached and second.solver_seconds == 0.0
+    expected = reference(obj, [5, 9])
+    np.testing.assert_allclose(second.distance, expected, rtol=1e-12)
+    np.testing.assert_allclose(attribute(obj.data, "d"), expected / expected.max(), rtol=1e-6, atol=1e-6)
+    assert "geodesic_distance_color" not in obj.data.attributes
+
+    smooth = api(obj, sources=[0], attribute="d", color_attribute=None, m=10.0)
+    assert not smooth.cached  # another option, another solver
+    np.testing.assert_allclose(smooth.distance, reference(obj, [0], m=10.0), rtol=1e-12)
+
+    co = coords(obj.data)
+    co[3] *= 1.01  # any geometry edit invalidates the solver
+    obj.data.vertices.foreach_set("co", co.ravel())
+    moved = api(obj, sources=[0], attribute="d", color_attribute=None, m=10.0)
+    assert not moved.cached
+    np.testing.assert_allclose(moved.distance, reference(obj, [0], m=10.0), rtol=1e-12)
+
+    with pytest.raises(addon.AddonError, match="unknown colormap"):
+        api(obj, sources=[0], colormap="rainbow")
+    with pytest.raises(hc.InvalidOptionError, match="boundary"):
+        api(obj, sources=[0], boundary="periodic")
+
+
+def test_mesh_without_faces_is_refused(addon):
+    mesh = bpy.data.meshes.new("cloud")
+    mesh.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [], [])
+    obj = bpy.data.objects.new("cloud", mesh)
+    bpy.context.collection.objects.link(obj)
+    names = {a.name for a in mesh.attributes}
+    with pytest.raises(addon.AddonError, match="has no faces"):
+        addon.compute_geodesic_distance(obj, sources=[0])
+    assert {a.name for a in mesh.attributes} == names
+
+
+def test_extension_zip_installs_and_runs(tmp_path):
+    """Build the zip for this platform, install it headless into a fresh user folder, run its operator."""
+    build = _load("build_blender_extension", REPO / "scripts" / "build_blender_extension.py")
+    platform = build.current_platform()
+    zips = build.build(tmp_path / "dist", platforms=[platform], pythons=["3.11"], log=lambda *a: None)
+    assert len(zips) == 1
+
+    # Only bpy and numpy visible: heatcore, scipy and cholespy must come from the extension.
+    lite = tmp_path / "site"
+    lite.mkdir()
+    for name in ("bpy", "numpy"):
+        spec = importlib.util.find_spec(name)
+        src = Path(list(spec.submodule_search_locations)[0])
+        for path in src.parent.glob(name + "*"):
+            if path.name == name or path.name == name + ".libs":
+                (lite / path.name).symlink_to(path)
+    env = {
+        **os.environ,
+        "PYTHONPATH": str(lite),
+        "BLENDER_USER_RESOURCES": str(tmp_path / "blender"),
+    }
+    proc = subprocess.run(
+        [sys.executable, "-S", str(REPO / "tests" / "blender_install_check.py"), str(zips[0])],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    out = json.loads(proc.stdout.strip().splitlines()[-1])
+    installed = Path(out["extensions_dir"]).resolve()
+    assert installed == (tmp_path / "blender" / "extensions").resolve()
+    assert out["install"] == ["FINISHED"] and out["enabled"]
+    assert out["operator"] == ["FINISHED"]
+    for key in ("addon_file", "heatcore_file", "scipy_file", "cholespy_file"):
+        assert Path(out[key]).resolve().is_relative_to(installed), (key, out[key])
+    assert "_vendor" in out["heatcore_file"]
+    assert out["color_active"] == "geodesic_distance_color"
+    d, exact = np.array(out["distance"]), np.array(out["exact"])
+    assert len(d) == out["n"] == 162
+    assert mean_relative_error(d, exact) < 0.02
