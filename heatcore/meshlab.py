@@ -127,7 +127,8 @@ def geodesic_distance_from_selection(
         A solver from an earlier call's statistics (``stats["solver"]``) on
         the same mesh: skips the precomputation.
     **solver_options
-        Further keyword arguments of :class:`heatcore.HeatSolver`.
+        Further keyword arguments of :class:`heatcore.HeatSolver`, passed
+        through unchanged (for example ``accuracy="high"``).
 
     Returns
     -------
@@ -328,6 +329,11 @@ SOLVER_ARGUMENTS = (
         "--boundary",
         dict(dest="boundary", choices=("robin", "neumann", "dirichlet"), default="robin",
              help="boundary condition on meshes with holes (default robin)"),
+    ),
+    (
+        "--accuracy",
+        dict(dest="accuracy", choices=("smooth", "high"), default="smooth",
+             help="smooth: the heat method; high: plus an ordered eikonal pass (more accurate, slower)"),
     ),
     (
         "--no-robust",

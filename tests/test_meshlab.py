@@ -118,6 +118,22 @@ def test_options_reach_the_solver():
     assert np.abs(plain - d).max() > 1e-4  # robust=False really changed the operators
 
 
+def test_solver_options_pass_through(tmp_path):
+    ms = spot_meshset()
+    select(ms, [0])
+    stats = meshlab.geodesic_distance_from_selection(ms, refine=0, accuracy="high")
+    assert stats["solver"].accuracy == "high"
+    high = reference(ms, [0], refine=0, accuracy="high")
+    np.testing.assert_array_equal(ms.current_mesh().vertex_scalar_array(), high)
+    assert np.abs(high - reference(ms, [0], refine=0)).max() > 1e-4
+    # and from the command line
+    out = tmp_path / "out.ply"
+    args = [str(shared_mesh_path("spot")), "--sources", "0", "--refine", "0", "--accuracy", "high", "-o", str(out)]
+    assert meshlab.main(args) == 0
+    _ms, mesh = reopen(out)
+    np.testing.assert_array_equal(mesh.vertex_scalar_array(), high)
+
+
 def test_no_selection_is_an_error_and_mesh_unchanged():
     ms = spot_meshset()
     mesh = ms.current_mesh()
