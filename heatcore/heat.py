@@ -123,7 +123,7 @@ class HeatSolver:
         self._poisson = factor(laplacian[free][:, free], backend) if free.size else None
         self.timings["poisson factorization"] = time.perf_counter() - start
         log.info(
-            "heat solver ready: %d vertices, %d components, t=%.3g, boundary=%s (%.2f s)",
+            "heat solver ready: %d operator vertices, %d components, t=%.3g, boundary=%s (%.2f s)",
             n,
             self.n_components,
             self.t,
@@ -165,6 +165,7 @@ class HeatSolver:
         b = -self.ops.divergence(X)
         reached = np.isin(self.component, np.unique(self.component[pins.vertices]))
         phi = self._pinned_poisson(b, pins, reached)
+        phi[pins.vertices] = pins.values
         phi = np.maximum(phi, 0.0)
         phi[~reached] = np.inf
         if self.accuracy == "high":

@@ -81,7 +81,7 @@ def read_mesh(path):
         return _read_meshio(path)
     except InvalidMeshError:
         raise
-    except Exception as exc:  # the readers raise many exception types on bad files
+    except (Exception, SystemExit) as exc:  # readers raise many types; meshio may even exit
         raise InvalidMeshError(f"cannot read mesh file {path}: {exc}") from exc
 
 
@@ -95,9 +95,13 @@ def _read_trimesh(path):
 
 
 def _read_meshio(path):
+    import contextlib
+    import io
+
     import meshio
 
-    mesh = meshio.read(str(path))
+    with contextlib.redirect_stdout(io.StringIO()):  # meshio prints its own errors
+        mesh = meshio.read(str(path))
     faces = []
     for block in mesh.cells:
         data = np.asarray(block.data, dtype=np.int64)

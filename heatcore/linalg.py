@@ -57,7 +57,10 @@ class _CholmodFactor:
 class _SuperLUFactor:
     def __init__(self, A):
         try:
-            self._lu = spla.splu(sp.csc_matrix(A), permc_spec="MMD_AT_PLUS_A")
+            # Symmetric mode with no pivoting keeps the fill-reducing ordering of A + A^T.
+            self._lu = spla.splu(
+                sp.csc_matrix(A), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True}
+            )
         except RuntimeError as exc:
             raise SolverError(f"sparse LU factorization failed: {exc}") from exc
         self.n = A.shape[0]

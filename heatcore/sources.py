@@ -60,7 +60,7 @@ def index_list(indices, upper, what):
     bad = (arr < 0) | (arr >= upper)
     if bad.any():
         raise InvalidSourceError(
-            f"{what} index {int(arr[bad][0])} is out of range: there are {upper} {what}s (0..{upper - 1})"
+            f"{what} index {int(arr[bad][0])} is out of range: valid {what} indices are 0..{upper - 1}"
         )
     return arr
 
