@@ -419,3 +419,4 @@ def test_extension_zip_installs_and_runs(tmp_path):
     d, exact = np.array(out["distance"]), np.array(out["exact"])
     assert len(d) == out["n"] == 162
     assert mean_relative_error(d, exact) < 0.02
+
