@@ -19,12 +19,14 @@ imported before pymeshlab in a process).
 
 Examples
 --------
->>> import pymeshlab  # doctest: +SKIP
->>> ms = pymeshlab.MeshSet()  # doctest: +SKIP
->>> ms.load_new_mesh("spot.obj")  # doctest: +SKIP
->>> ms.compute_selection_by_condition_per_vertex(condselect="vi == 0")  # doctest: +SKIP
->>> stats = geodesic_distance_from_selection(ms, colormap="viridis", isolines=10)  # doctest: +SKIP
->>> ms.current_mesh().vertex_scalar_array()  # the distance, as quality  # doctest: +SKIP
+In a PyMeshLab script (not run as a doctest: it needs pymeshlab and a mesh file)::
+
+    import pymeshlab
+    ms = pymeshlab.MeshSet()
+    ms.load_new_mesh("spot.obj")
+    ms.compute_selection_by_condition_per_vertex(condselect="vi == 0")
+    stats = geodesic_distance_from_selection(ms, colormap="viridis", isolines=10)
+    ms.current_mesh().vertex_scalar_array()  # the distance, as quality
 """
 
 import argparse
@@ -526,8 +528,7 @@ def main(argv=None, prog=None):
 
     Examples
     --------
-    >>> main(["mesh.ply", "-o", "mesh_distance.ply"])  # doctest: +SKIP
-    0
+    ``main(["mesh.ply", "-o", "mesh_distance.ply"])`` returns 0 after writing the PLY.
     """
     parser = build_parser(prog)
     args = parser.parse_args(argv)
