@@ -37,7 +37,10 @@ def vertex_array(V, name="V"):
 
 def index_array(A, n_vertices, columns, element="face", name="F"):
     """Element indices as an ``(m, columns)`` int64 array, each in ``[0, n_vertices)``."""
-    A = np.asarray(A)
+    try:
+        A = np.asarray(A)
+    except ValueError as exc:  # ragged nested lists
+        raise InvalidMeshError(f"{name} must be an integer array of shape (m, {columns}); got ragged rows") from exc
     if A.dtype == object:
         raise InvalidMeshError(f"{name} must be an integer array of shape (m, {columns}); got ragged rows")
     if A.ndim != 2 or A.shape[1] != columns:
