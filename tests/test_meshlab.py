@@ -293,3 +293,26 @@ def test_cli_refuses_overwriting_input_and_missing_input(tmp_path, capsys, saved
     assert "overwrite the input" in capsys.readouterr().err
     assert meshlab.main([str(tmp_path / "missing.obj")]) == 2
     assert "does not exist" in capsys.readouterr().err
+
+
+def test_polygon_input_is_triangulated_and_counted():
+    # suzanne: 500 faces, quads and triangles, several connected components
+    path = shared_mesh_path("suzanne")
+    quads = sum(1 for line in path.read_text().splitlines() if line.startswith("f ") and len(line.split()) > 4)
+    ms = pymeshlab.MeshSet()
+    ms.load_new_mesh(str(path))
+    select(ms, [0])
+    # pymeshlab's triangulation of suzanne holds one duplicate triangle: heatcore drops it and says so
+    with pytest.warns(hc.HeatcoreWarning, match="1 duplicate face"):
+        stats = meshlab.geodesic_distance_from_selection(ms, refine=0)
+    mesh = ms.current_mesh()
+    # pymeshlab recovers 467 of suzanne's 468 quads as polygons (one comes back as two triangles)
+    assert stats["polygons"] == sum(len(p) > 3 for p in mesh.polygonal_face_list())
+    assert quads - 2 <= stats["polygons"] <= quads
+    assert stats["faces"] == mesh.face_number() == 500 + quads  # each quad became two triangles
+    with pytest.warns(hc.HeatcoreWarning, match="1 duplicate face"):
+        d = reference(ms, [0], refine=0)
+    np.testing.assert_array_equal(stats["distance"], d)
+    reached = np.isfinite(d)
+    assert 0 < reached.sum() < d.size and stats["unreachable"] == d.size - reached.sum()
+    np.testing.assert_array_equal(mesh.vertex_scalar_array(), np.where(reached, d, -1.0))
