@@ -9,7 +9,7 @@ Examples
 >>> d1, d2 = solver.distance([0]), solver.distance([5, 9])
 """
 
-from . import io
+from . import io, linalg
 from .errors import (
     HeatcoreError,
     HeatcoreWarning,

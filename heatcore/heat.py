@@ -59,7 +59,7 @@ class HeatSolver:
         smoothing). "high" follows it with an ordered eikonal pass that uses
         the heat distance as the order (:mod:`heatcore.eikonal`); triangle
         meshes only.
-    backend : {"auto", "cholmod", "superlu"}
+    backend : {"auto", "qdldl", "cholmod", "superlu"}
         Sparse factorization backend (see :mod:`heatcore.linalg`).
 
     Attributes
@@ -100,8 +100,7 @@ class HeatSolver:
         ground = np.full(self.n_components, n, dtype=np.int64)
         np.minimum.at(ground, self.component, np.arange(n))
         self._ground = ground
-        self._free = np.ones(n, dtype=bool)
-        self._free[ground] = False
+        self._divergence = (ops.gradient.T @ sp.diags(np.repeat(ops.volumes, ops.dim))).tocsr()
 
         heat_matrix = (sp.diags(ops.mass) + self.t * ops.laplacian).tocsr()
         self._heat_neumann = self._heat_dirichlet = None
@@ -117,10 +116,8 @@ class HeatSolver:
 
         start = time.perf_counter()
         self._backend = backend
-        laplacian = ops.laplacian.tocsr()
-        self._laplacian = laplacian
-        free = np.flatnonzero(self._free)
-        self._poisson = factor(laplacian[free][:, free], backend) if free.size else None
+        self._laplacian = ops.laplacian.tocsr()
+        self._poisson = factor(_grounded(self._laplacian, ground), backend)
         self.timings["poisson factorization"] = time.perf_counter() - start
         log.info(
             "heat solver ready: %d operator vertices, %d components, t=%.3g, boundary=%s (%.2f s)",
@@ -161,9 +158,11 @@ class HeatSolver:
     def distance_from_pins(self, pins):
         """Distance at every operator vertex for prepared :class:`~heatcore.sources.SourcePins`."""
         u = self.heat(pins.heat)
-        X = self.unit_field(u)
-        b = -self.ops.divergence(X)
-        reached = np.isin(self.component, np.unique(self.component[pins.vertices]))
+        b = self._divergence @ self.unit_field(u).ravel()  # = -div X
+        if self.n_components == 1:
+            reached = np.ones(self.ops.n_vertices, dtype=bool)
+        else:
+            reached = np.isin(self.component, self.component[pins.vertices])
         phi = self._pinned_poisson(b, pins, reached)
         phi[pins.vertices] = pins.values
         phi = np.maximum(phi, 0.0)
@@ -194,18 +193,16 @@ class HeatSolver:
     def unit_field(self, u):
         """``-grad u / |grad u|`` per element, 0 where the gradient vanishes or is not finite."""
         g = (self.ops.gradient @ u).reshape(-1, self.ops.dim)
-        norm = np.linalg.norm(g, axis=1)
-        ok = np.isfinite(norm) & (norm > 0)
-        X = np.zeros_like(g)
-        X[ok] = -g[ok] / norm[ok, None]
-        return X
+        norm = np.sqrt(np.einsum("ij,ij->i", g, g))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            scale = np.where(np.isfinite(norm) & (norm > 0), -1.0 / norm, 0.0)
+        return g * scale[:, None]
 
     def _solve_grounded(self, rhs):
         """Solve ``L x = rhs`` per component with ``x = 0`` at each component's ground vertex."""
-        x = np.zeros(rhs.shape)
-        if self._poisson is not None:
-            x[self._free] = self._poisson.solve(rhs[self._free])
-        return x
+        rhs = np.array(rhs, dtype=float)
+        rhs[self._ground] = 0.0
+        return self._poisson.solve(rhs)
 
     def _pinned_poisson(self, b, pins, reached):
         """Minimize the Dirichlet-energy misfit with ``phi[pins.vertices] = pins.values``."""
@@ -246,6 +243,18 @@ class HeatSolver:
             rhs = b[idx] - L[idx][:, P] @ d
             phi[idx] = factor(L[idx][:, idx], self._backend).solve(rhs)
         return phi
+
+
+def _grounded(L, ground):
+    """``L`` with the rows and columns of the ground vertices replaced by the identity.
+
+    Solving with it gives ``x = 0`` at the ground vertices and ``L x = b``
+    elsewhere; it is positive definite when each component has one ground.
+    """
+    keep = np.ones(L.shape[0])
+    keep[ground] = 0.0
+    K = sp.diags(keep) @ L @ sp.diags(keep)
+    return (K + sp.diags(1.0 - keep)).tocsc()
 
 
 def _components(elements, n):

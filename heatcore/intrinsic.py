@@ -125,7 +125,7 @@ class IntrinsicTriangulation:
     twin: np.ndarray
 
     @classmethod
-    def from_mesh(cls, V, F, lengths=None):
+    def from_mesh(cls, V, F, lengths=None, side_edge=None):
         """Build from vertex positions (or given lengths) and faces.
 
         Parameters
@@ -134,11 +134,13 @@ class IntrinsicTriangulation:
         F : (m, 3) int array
         lengths : (m, 3) float array, optional
             Edge lengths to use instead of those measured from ``V``.
+        side_edge : (m, 3) int array, optional
+            Undirected edge ids of the face sides, if already known.
         """
         F = np.ascontiguousarray(F, dtype=np.int64)
         if lengths is None:
             lengths = face_edge_lengths(V, F)
-        return cls(F.copy(), np.array(lengths, dtype=float), halfedge_twins(F))
+        return cls(F.copy(), np.array(lengths, dtype=float), halfedge_twins(F, side_edge))
 
     def flip_to_delaunay(self, max_rounds=10_000):
         """Flip non-Delaunay edges in independent batches until none is left.
@@ -212,12 +214,15 @@ class IntrinsicTriangulation:
         Lf[f1] = np.stack([l_il, l_kl, l_ki], axis=1)
 
 
-def halfedge_twins(F):
+def halfedge_twins(F, side_edge=None):
     """Twin of each half-edge (``-1`` on boundary, non-manifold or misoriented edges).
 
     Parameters
     ----------
     F : (m, 3) int array
+    side_edge : (m, 3) int array, optional
+        Undirected edge id of each half-edge (as from
+        :func:`heatcore.refine.unique_edges`); computed when not given.
 
     Returns
     -------
@@ -225,8 +230,11 @@ def halfedge_twins(F):
     """
     tail = F[:, NEXT].ravel()
     head = F[:, PREV].ravel()
-    n = int(F.max()) + 1 if F.size else 0
-    key = np.minimum(tail, head) * n + np.maximum(tail, head)
+    if side_edge is None:
+        n = int(F.max()) + 1 if F.size else 0
+        key = np.minimum(tail, head) * n + np.maximum(tail, head)
+    else:
+        key = side_edge.ravel()
     order = np.argsort(key, kind="stable")
     sk = key[order]
     starts = np.flatnonzero(np.r_[True, sk[1:] != sk[:-1]])

@@ -31,6 +31,8 @@ class Subdivision:
     edges : (k, 2) int array, the unique edges of the input mesh (sorted pairs).
     vertex_edge : (n',) int array, input edge a vertex lies on, or -1.
     vertex_face : (n',) int array, input face a vertex lies strictly inside, or -1.
+    mesh_edges : (k', 2) int array, the unique edges of the subdivided mesh.
+    side_edge : (m', 3) int array, edge id (into ``mesh_edges``) of each face side.
     """
 
     vertices: np.ndarray
@@ -38,6 +40,8 @@ class Subdivision:
     edges: np.ndarray
     vertex_edge: np.ndarray
     vertex_face: np.ndarray
+    mesh_edges: np.ndarray
+    side_edge: np.ndarray
 
 
 def unique_edges(F):
@@ -73,14 +77,15 @@ def midpoint_subdivide(V, F, levels):
     -------
     Subdivision
     """
-    edges, side_edge = unique_edges(F)
+    edges, side_edge = cur_edges, cur_side = unique_edges(F)
     n = V.shape[0]
     vertex_edge = np.full(n, -1, dtype=np.int64)
     vertex_face = np.full(n, -1, dtype=np.int64)
     face_origin = np.arange(F.shape[0])
     side_origin = side_edge.copy()  # input edge id of each face side, -1 if interior
-    for _ in range(levels):
-        cur_edges, cur_side = unique_edges(F)
+    for level in range(levels):
+        if level:
+            cur_edges, cur_side = unique_edges(F)
         mid = V.shape[0] + np.arange(cur_edges.shape[0])
         V = np.vstack([V, 0.5 * (V[cur_edges[:, 0]] + V[cur_edges[:, 1]])])
         # origin of each new vertex: the input edge its side lies on, else the input face
@@ -114,4 +119,6 @@ def midpoint_subdivide(V, F, levels):
             ]
         )
         face_origin = np.tile(face_origin, 4)
-    return Subdivision(V, F, edges, vertex_edge, vertex_face)
+    if levels:
+        cur_edges, cur_side = unique_edges(F)
+    return Subdivision(V, F, edges, vertex_edge, vertex_face, cur_edges, cur_side)

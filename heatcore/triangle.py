@@ -27,7 +27,7 @@ from .intrinsic import (
     mollify,
 )
 from .operators import Operators
-from .refine import midpoint_subdivide, unique_edges
+from .refine import midpoint_subdivide
 from .sources import SourcePins, barycentric_array, index_list
 from .validate import clean_elements, mesh_arrays
 
@@ -158,7 +158,7 @@ class TriangleMesh:
         sub = self.subdivision
         V, F = sub.vertices, sub.faces
         n = V.shape[0]
-        edges, side_edge = unique_edges(F)
+        edges, side_edge = sub.mesh_edges, sub.side_edge
         edge_faces = np.bincount(side_edge.ravel(), minlength=edges.shape[0])
         boundary = np.zeros(n, dtype=bool)
         boundary[edges[edge_faces == 1].ravel()] = True
@@ -169,7 +169,7 @@ class TriangleMesh:
         # Work at unit mean edge length so results scale exactly with the mesh.
         lengths, self.mollification = mollify(face_edge_lengths(V, F) / h)
         self.mollification *= h
-        tri = IntrinsicTriangulation.from_mesh(None, F, lengths=lengths)
+        tri = IntrinsicTriangulation.from_mesh(None, F, lengths=lengths, side_edge=side_edge)
         self.n_flips = tri.flip_to_delaunay() if self.robust else 0
         tri.lengths *= h
         self.intrinsic = tri
