@@ -32,6 +32,7 @@ class VIEW3D_PT_heat_geodesic(bpy.types.Panel):
         col = layout.column(heading="Solver")
         col.prop(settings, "time_factor")
         col.prop(settings, "boundary")
+        col.prop(settings, "accuracy")
         col.prop(settings, "robust")
 
         col = layout.column(heading="Output")

@@ -51,7 +51,7 @@ class SurfaceMesh:
 
 def demo_mesh_path():
     """Path of the bundled demo mesh (spot, Keenan Crane, public domain)."""
-    return Path(str(resources.files("heatcore") / "data" / "spot.obj"))
+    return Path(str(resources.files(__package__) / "data" / "spot.obj"))
 
 
 def load_demo_mesh():

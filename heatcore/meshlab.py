@@ -537,9 +537,12 @@ def main(argv=None, prog=None):
     except HeatcoreError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    if args.json:
-        public = {k: v for k, v in stats.items() if k not in ("distance", "solver")}
-        print(json.dumps(public, indent=2))
-    else:
-        print(_summary(stats))
+    print(format_report(stats, as_json=args.json))
     return 0
+
+
+def format_report(stats, as_json=False):
+    """The command's printed report: a summary, or the statistics as JSON."""
+    if as_json:
+        return json.dumps({k: v for k, v in stats.items() if k not in ("distance", "solver")}, indent=2)
+    return _summary(stats)

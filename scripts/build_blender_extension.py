@@ -5,7 +5,7 @@ Steps:
 1. stage ``blender_addon/`` and vendor heatcore's source as ``_vendor/heatcore``
    (a sub-package of the extension, so it cannot clash with other extensions);
 2. download the binary wheels heatcore needs and Blender lacks (scipy,
-   cholespy) for each platform and Python version, with
+   cholespy, qdldl) for each platform and Python version, with
    ``pip download --only-binary=:all: --platform ... --python-version ...``;
 3. write ``platforms`` and ``wheels`` into the staged ``blender_manifest.toml``;
 4. build with Blender's own extension builder: ``blender --command extension
@@ -54,7 +54,7 @@ PYTHONS = ["3.11", "3.13"]
 
 #: Pinned wheels. scipy 1.15 supports numpy 1.23.5 - 2.x, which covers the
 #: numpy of every Blender from 4.2 on, and has wheels for Python 3.11 and 3.13.
-REQUIREMENTS = ["scipy==1.15.3", "cholespy==2.2.0"]
+REQUIREMENTS = ["scipy==1.15.3", "cholespy==2.2.0", "qdldl==0.1.9.post1"]
 
 
 def current_platform():
@@ -75,6 +75,7 @@ def stage_sources(stage):
     vendor.mkdir()
     (vendor / "__init__.py").write_text('"""Packages bundled with the extension (heatcore)."""\n')
     shutil.copytree(HEATCORE_DIR, vendor / "heatcore", ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
+    shutil.copy(HEATCORE_DIR.parent / "LICENSE", vendor / "heatcore" / "LICENSE")  # MIT travels with it
 
 
 def download_wheels(dest, platform, python, requirements=REQUIREMENTS, pip=None):

@@ -2,8 +2,8 @@
 
 Run by tests/test_blender.py in a subprocess whose ``sys.path`` holds only
 bpy and numpy (``python -S`` with ``PYTHONPATH``) and whose
-``BLENDER_USER_RESOURCES`` is a temporary folder, so that heatcore, scipy and
-cholespy can only come from the installed extension. Prints one JSON line.
+``BLENDER_USER_RESOURCES`` is a temporary folder, so that heatcore, scipy,
+cholespy and qdldl can only come from the installed extension. Prints one JSON line.
 
 Usage: python -S blender_install_check.py EXTENSION.zip
 """
@@ -37,6 +37,7 @@ def main(zip_path):
     exact = 2.0 * np.arccos(np.clip(co @ co[top] / 4.0, -1.0, 1.0))
     hc = sys.modules[module + "._vendor.heatcore"]
     import cholespy
+    import qdldl
     import scipy
 
     print(
@@ -49,6 +50,7 @@ def main(zip_path):
                 "heatcore_file": hc.__file__,
                 "scipy_file": scipy.__file__,
                 "cholespy_file": cholespy.__file__,
+                "qdldl_file": qdldl.__file__,
                 "operator": sorted(ran),
                 "color_active": obj.data.color_attributes.active_color.name,
                 "n": n,

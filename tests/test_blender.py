@@ -384,7 +384,7 @@ def test_extension_zip_installs_and_runs(tmp_path):
     zips = build.build(tmp_path / "dist", platforms=[platform], pythons=["3.11"], log=lambda *a: None)
     assert len(zips) == 1
 
-    # Only bpy and numpy visible: heatcore, scipy and cholespy must come from the extension.
+    # Only bpy and numpy visible: heatcore, scipy, cholespy and qdldl must come from the extension.
     lite = tmp_path / "site"
     lite.mkdir()
     for name in ("bpy", "numpy"):
@@ -412,7 +412,7 @@ def test_extension_zip_installs_and_runs(tmp_path):
     assert installed == (tmp_path / "blender" / "extensions").resolve()
     assert out["install"] == ["FINISHED"] and out["enabled"]
     assert out["operator"] == ["FINISHED"]
-    for key in ("addon_file", "heatcore_file", "scipy_file", "cholespy_file"):
+    for key in ("addon_file", "heatcore_file", "scipy_file", "cholespy_file", "qdldl_file"):
         assert Path(out[key]).resolve().is_relative_to(installed), (key, out[key])
     assert "_vendor" in out["heatcore_file"]
     assert out["color_active"] == "geodesic_distance_color"

@@ -17,7 +17,7 @@ FAST = ["--refine", "1", "-q"]
 
 
 def write_obj(path, V, F):
-    lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in V] + [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in F]
+    lines = [f"v {x:.17g} {y:.17g} {z:.17g}" for x, y, z in V] + [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in F]
     path.write_text("\n".join(lines) + "\n")
     return path
 
