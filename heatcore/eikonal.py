@@ -9,17 +9,21 @@ of Kimmel and Sethian ("Computing geodesic paths on manifolds", PNAS 1998):
 * every vertex starts at ``+inf`` except the pinned source vertices
   (:class:`~heatcore.sources.SourcePins`: 0 at source vertices, the in-face
   straight-line distance around a surface point);
-* vertices are swept in increasing ``phi``, in narrow bands of heat distance
-  (``band_width`` times the mean edge length). A window of ``1 + lookahead``
-  bands is relaxed at once, fully vectorized (every corner of every triangle
-  around every window vertex is evaluated with array operations); then the
-  first band of the window is final and the window slides by one band. A
-  vertex is therefore relaxed ``1 + lookahead`` times, each time from
-  neighbours that are final or were themselves just relaxed, which resolves
-  the dependencies inside a band and the small ordering errors of ``phi``;
-* a few global relaxation sweeps at the end (``polish``) let late vertices
-  improve early ones where ``phi`` ordered them wrongly; they stop as soon as
-  no value changes by more than a relative ``1e-12``.
+* vertices are swept in increasing ``phi``, in bands of heat distance
+  ``band_width`` mean edge lengths wide. Each band is relaxed, fully
+  vectorized, from the triangles around its vertices (every corner of every
+  triangle of a band vertex is one array element): the first sweep evaluates
+  all of the band's corners from the vertices known so far; later sweeps (at
+  most ``max_sweeps`` per band) only the corners whose other two vertices
+  just changed, which resolves the dependencies inside a band. Corners still
+  pending move on with the next band;
+* the ``lookback`` bands before the current one stay open: a change in the
+  current band re-relaxes their corners too. A vertex at an obtuse corner can
+  take its value from a vertex a little farther from the source (the
+  characteristic crosses the opposite edge), and this lets that value arrive;
+* values only decrease; a sweep counts a change when a value drops by more
+  than ``tol`` relatively. Vertices the pass leaves unreached (``phi`` put
+  them long before all their neighbours) get global relaxation sweeps.
 
 Triangle update. For a corner ``C`` of a triangle ``ABC`` with known
 distances ``d_A`` and ``d_B``, the triangle is laid out in the plane with
@@ -56,14 +60,18 @@ from .intrinsic import NEXT, PREV, face_edge_lengths
 
 #: Width of a band of heat distance, in mean edge lengths.
 BAND_WIDTH = 1.0
-#: Most relaxations of one band.
-MAX_SWEEPS = 32
+#: Settled bands that stay open to changes while the next band settles.
+LOOKBACK = 2
+#: Most relaxations per band before the rest carries over to the next band.
+MAX_SWEEPS = 3
 #: Most global relaxation sweeps after the ordered pass.
 POLISH_SWEEPS = 0
-#: A band is settled when no value decreases by more than this, relatively.
-TOL = 1e-9
+#: A value counts as changed when it decreases by more than this, relatively.
+TOL = 1e-6
 
 _CORNERS = weakref.WeakKeyDictionary()
+_ZERO = np.zeros(1, dtype=np.int64)
+_EMPTY = np.zeros(0, dtype=np.int64)
 
 
 class CornerTable:
@@ -159,32 +167,85 @@ def triangle_update(da, db, c, x, y, ca, cb):
     2.0615528128088303
     """
     with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
-        edge = np.minimum(da + ca, db + cb)
-        xs = 0.5 * ((da - db) * (da + db) / c + c)
-        h2 = (da - xs) * (da + xs)
-        ys = -np.sqrt(h2)  # nan where no virtual source exists
-        dx, dy = x - xs, y - ys
-        cross = xs + dx * (-ys / dy)  # where S->C meets the line AB
-        inside = (cross >= 0.0) & (cross <= c)
-        return np.where(inside, np.minimum(np.hypot(dx, dy), edge), edge)
+        return _update(np.asarray(da, float), np.asarray(db, float), c, x, y, ca, cb)
 
 
-def _relax(d, a, b, geom, vertices, first, tol):
-    """One Jacobi relaxation of ``vertices`` from their corners (``a``, ``b``, ``geom`` rows); in place.
-
-    Returns whether any value decreased by more than ``tol`` relative.
-    """
-    c, x, y, ca, cb = geom
-    new = np.minimum.reduceat(triangle_update(d[a], d[b], c, x, y, ca, cb), first)
-    old = d[vertices]
-    if (new < old * (1.0 - tol)).any():
-        d[vertices] = np.minimum(new, old)
-        return True
-    d[vertices] = np.minimum(new, old)
-    return False
+def _update(da, db, c, x, y, ca, cb):
+    """:func:`triangle_update` without the floating-point error state (set by the caller)."""
+    edge = np.minimum(da + ca, db + cb)
+    xs = 0.5 * ((da - db) * (da + db) / c + c)
+    ys = np.sqrt((da - xs) * (da + xs))  # S = (xs, -ys); nan where no virtual source exists
+    dx, dy = x - xs, y + ys
+    # S->C meets the line AB at xs + dx * ys / dy; it must lie in [0, c] (dy > 0).
+    t = xs * y + x * ys
+    inside = (t >= 0.0) & (t <= c * dy)
+    return np.where(inside, np.minimum(np.sqrt(dx * dx + dy * dy), edge), edge)
 
 
-def refine_distance(domain, phi, pins, *, band_width=BAND_WIDTH, max_sweeps=MAX_SWEEPS, tol=TOL, polish=POLISH_SWEEPS):
+class _Sweep:
+    """The corners of the reached vertices laid out in sweep order, for one query."""
+
+    def __init__(self, table, order, d, tol):
+        counts = np.diff(table.start)[order]
+        offsets = np.concatenate((_ZERO, np.cumsum(counts)))
+        rows = np.repeat(table.start[order] - offsets[:-1], counts) + np.arange(offsets[-1])
+        self.offsets = offsets
+        self.cv = np.repeat(order, counts)
+        self.a, self.b = table.a[rows], table.b[rows]
+        self.geom = np.take(table.geom, rows, axis=1)
+        self.mark = np.zeros(d.size, dtype=bool)
+        self.d, self.tol = d, tol
+
+    def settle(self, lo, mid, hi, max_sweeps, pending=None):
+        """Relax corners ``lo:hi`` until no value drops by more than ``tol`` relative.
+
+        The first sweep evaluates the corners ``mid:hi`` and the ``pending``
+        ones; each later sweep only the corners in ``lo:hi`` whose ``A`` or
+        ``B`` changed in the sweep before (the others cannot give a lower value
+        than they already did). Returns the corners still pending after
+        ``max_sweeps`` sweeps (sorted positions, possibly empty).
+        """
+        d, cv, a, b, geom, tol = self.d, self.cv, self.a, self.b, self.geom, self.tol
+        mark = self.mark
+        if pending is not None and pending.size:
+            pending = pending[pending >= lo]  # corners leaving the window are final
+            idx = np.concatenate((pending[pending < mid], np.arange(mid, hi)))
+        else:
+            idx = slice(mid, hi)
+        for _ in range(max_sweeps):
+            v = cv[idx]
+            if v.size == 0:
+                return _EMPTY
+            val = _update(d[a[idx]], d[b[idx]], *geom[:, idx])
+            starts = np.flatnonzero(v[1:] != v[:-1])
+            starts += 1
+            starts = np.concatenate((_ZERO, starts))
+            new = np.minimum.reduceat(val, starts)
+            vs = v[starts]
+            old = d[vs]
+            changed = vs[new < old * (1.0 - tol)]
+            d[vs] = np.minimum(new, old)
+            if changed.size == 0:
+                return _EMPTY
+            # the corners (in lo:hi) that have a changed vertex as A or B
+            mark[changed] = True
+            idx = np.flatnonzero(mark[a[lo:hi]] | mark[b[lo:hi]])
+            idx += lo
+            mark[changed] = False
+        return idx
+
+
+def refine_distance(
+    domain,
+    phi,
+    pins,
+    *,
+    band_width=BAND_WIDTH,
+    lookback=LOOKBACK,
+    max_sweeps=MAX_SWEEPS,
+    tol=TOL,
+    polish=POLISH_SWEEPS,
+):
     """Recompute distances by an eikonal pass ordered by the heat distance ``phi``.
 
     Parameters
@@ -200,10 +261,16 @@ def refine_distance(domain, phi, pins, *, band_width=BAND_WIDTH, max_sweeps=MAX_
         Known distances: ``pins.vertices`` keep ``pins.values``.
     band_width : float
         Band width in mean edge lengths.
+    lookback : int
+        Bands before the current one that stay open to changes.
     max_sweeps : int
-        Most relaxations of one band (it stops as soon as no value changes).
+        Most relaxations per band (it stops as soon as no value changes);
+        what is left carries over to the next band.
+    tol : float
+        Relative decrease below which a value counts as unchanged.
     polish : int
-        Most global relaxation sweeps after the pass.
+        Most global relaxation sweeps after the pass (0: none; the pass alone
+        is as accurate on the test meshes).
 
     Returns
     -------
@@ -223,34 +290,30 @@ def refine_distance(domain, phi, pins, *, band_width=BAND_WIDTH, max_sweeps=MAX_
     if order.size == 0:
         return np.where(np.isfinite(phi), d, np.inf)
 
-    # The corners of the vertices in sweep order, laid out contiguously.
-    counts = counts_all[order]
-    offsets = np.r_[0, np.cumsum(counts)]
-    rows = np.repeat(table.start[order] - offsets[:-1], counts) + np.arange(offsets[-1])
-    a, b = table.a[rows], table.b[rows]
-    geom = np.take(table.geom, rows, axis=1)
+    sweep = _Sweep(table, order, d, tol)
+    offsets = sweep.offsets
 
-    # Band boundaries (positions in ``order``): one band per band_width * h of phi.
+    # Band boundaries (corner positions): one band per band_width * h of phi.
     h = domain.operators.mean_edge_length
     ps = phi[order]
     nb = int(np.ceil((ps[-1] - ps[0]) / (band_width * h))) + 1
     edges = np.searchsorted(ps, ps[0] + band_width * h * np.arange(1, nb + 1))
-    bounds = np.unique(np.r_[0, edges, order.size])
+    bounds = offsets[np.unique(np.r_[0, edges, order.size])]
 
     with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
-        for lo, hi in zip(bounds[:-1], bounds[1:]):
-            r0, r1 = offsets[lo], offsets[hi]
-            args = (a[r0:r1], b[r0:r1], geom[:, r0:r1], order[lo:hi], offsets[lo:hi] - r0, tol)
-            for _ in range(max_sweeps):
-                if not _relax(d, *args):
-                    break
-        args = (a, b, geom, order, offsets[:-1], tol)
-        sweeps = 0
-        # Vertices the pass left unreached (phi ordered them before all their
-        # neighbours) and the optional polish: global relaxation sweeps.
-        while (sweeps < polish or np.isinf(d[order]).any()) and sweeps < n:
-            sweeps += 1
-            if not _relax(d, *args):
+        pending = _EMPTY
+        for k in range(bounds.size - 1):
+            pending = sweep.settle(bounds[max(k - lookback, 0)], bounds[k], bounds[k + 1], max_sweeps, pending)
+        if pending.size:  # finish the last window
+            last = bounds.size - 2
+            sweep.settle(bounds[max(last - lookback, 0)], offsets[-1], offsets[-1], max(n, 1), pending)
+        # Optional polish, and vertices the pass left unreached (phi put them
+        # before all their neighbours): global sweeps.
+        if polish:
+            sweep.settle(0, 0, offsets[-1], polish)
+        for _ in range(n):
+            if not np.isinf(d[order]).any():
                 break
+            sweep.settle(0, 0, offsets[-1], 1)
     d[~np.isfinite(phi)] = np.inf
     return d
