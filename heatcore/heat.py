@@ -86,6 +86,8 @@ class HeatSolver:
             raise InvalidOptionError(f"boundary must be one of {BOUNDARY_CONDITIONS}, got {boundary!r}")
         if accuracy not in ACCURACY_MODES:
             raise InvalidOptionError(f"accuracy must be one of {ACCURACY_MODES}, got {accuracy!r}")
+        if accuracy == "high" and getattr(domain, "intrinsic", None) is None:
+            raise InvalidOptionError(f"accuracy='high' is available on triangle meshes, not on {type(domain).__name__}")
         self.accuracy = accuracy
         self.domain = domain
         self.m = float(m)
@@ -128,18 +130,18 @@ class HeatSolver:
             sum(self.timings.values()),
         )
 
-    def distance(self, vertices=None, *, face_points=None, edges=None, faces=None):
+    def distance(self, vertices=None, **sources):
         """Geodesic distance from the given sources to every input vertex.
 
         Parameters
         ----------
         vertices : int or sequence of int, optional
             Source vertex indices.
-        face_points : (face_indices, barycentric) pair, optional
-            Source points inside elements, with barycentric coordinates.
-        edges, faces : optional
-            Regions; the distance is to their union (see the domain's
-            ``source_pins``).
+        **sources
+            Other kinds of sources, as the domain's ``source_pins`` accepts
+            them; for a :class:`~heatcore.TriangleMesh`: ``face_points``
+            (points on faces with barycentric coordinates), ``edges`` and
+            ``faces`` (regions; the distance is to their union).
 
         Returns
         -------
@@ -147,7 +149,7 @@ class HeatSolver:
             Distance per input vertex; ``inf`` where no source can be reached
             (another connected component, or a vertex used by no element).
         """
-        pins = self.domain.source_pins(vertices, face_points=face_points, edges=edges, faces=faces)
+        pins = self.domain.source_pins(vertices, **sources)
         phi = self.distance_from_pins(pins)
         vmap = self.domain.output_vertices
         out = np.full(vmap.shape[0], np.inf)
