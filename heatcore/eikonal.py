@@ -179,7 +179,8 @@ def _update(da, db, c, x, y, ca, cb):
     # S->C meets the line AB at xs + dx * ys / dy; it must lie in [0, c] (dy > 0).
     t = xs * y + x * ys
     inside = (t >= 0.0) & (t <= c * dy)
-    return np.where(inside, np.minimum(np.sqrt(dx * dx + dy * dy), edge), edge)
+    # where the update applies, |SC| <= d_A + |AC| and d_B + |BC| (triangle inequality)
+    return np.where(inside, np.sqrt(dx * dx + dy * dy), edge)
 
 
 class _Sweep:
