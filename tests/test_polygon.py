@@ -1,0 +1,247 @@
+"""Polygon meshes by virtual refinement (heatcore.polygon) and the polygon reader (heatcore.polygon_io).
+
+The helpers at the top (quad grids, Catmull-Clark subdivision, manifold parts,
+potpourri3d in a subprocess) are shared with scripts/bench_polygon.py.
+"""
+
+import json
+import subprocess
+import sys
+import warnings
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from conftest import exact_distance, mean_relative_error, shared_mesh_path
+
+import heatcore as hc
+from heatcore.polygon import PolygonMesh, area_minimizer_weights, fan_triangulate, polygon_arrays
+
+# ---------------------------------------------------------------- helpers
+
+
+def quad_grid(n, jitter=0.0, seed=0):
+    """Planar ``n x n`` vertex grid of quads on [0, 1]^2; interior vertices jittered by ``jitter`` cells."""
+    x, y = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n), indexing="xy")
+    V = np.column_stack([x.ravel(), y.ravel(), np.zeros(x.size)])
+    if jitter:
+        inner = (x.ravel() > 0) & (x.ravel() < 1) & (y.ravel() > 0) & (y.ravel() < 1)
+        V[inner, :2] += np.random.default_rng(seed).uniform(-jitter, jitter, (inner.sum(), 2)) / (n - 1)
+    i, j = np.meshgrid(np.arange(n - 1), np.arange(n - 1), indexing="xy")
+    a = (j * n + i).ravel()
+    return V, np.stack([a, a + 1, a + n + 1, a + n], axis=1)
+
+
+def cube():
+    """Unit cube as six outward-oriented quads."""
+    V = np.array([[x, y, z] for z in (0, 1) for y in (0, 1) for x in (0, 1)], float)
+    Q = np.array([[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]])
+    return V, Q
+
+
+def catmull_clark(V, Q, levels=1):
+    """Catmull-Clark subdivision of a closed manifold polygon mesh ((m, k) array or lists); returns quads."""
+    for _ in range(levels):
+        offsets, idx = polygon_arrays(Q, len(V))
+        sizes = np.diff(offsets)
+        m, n = sizes.size, len(V)
+        owner = np.repeat(np.arange(m), sizes)
+        nxt = np.arange(idx.size) + 1
+        nxt[offsets[1:] - 1] = offsets[:-1]
+        prv = np.empty_like(nxt)
+        prv[nxt] = np.arange(idx.size)
+        face_pt = np.stack([np.bincount(owner, V[idx, c]) for c in range(3)], 1) / sizes[:, None]
+        a, b = idx, idx[nxt]
+        keys, side = np.unique(np.minimum(a, b) * n + np.maximum(a, b), return_inverse=True)
+        E = np.stack([keys // n, keys % n], 1)
+        ef = np.stack([np.bincount(side, face_pt[owner, c], len(E)) for c in range(3)], 1) / 2
+        edge_pt = (V[E[:, 0]] + V[E[:, 1]]) / 4 + ef / 2
+        valence = np.bincount(idx, minlength=n)
+        Qavg = np.stack([np.bincount(idx, face_pt[owner, c], n) for c in range(3)], 1) / valence[:, None]
+        mid = (V[E[:, 0]] + V[E[:, 1]]) / 2
+        Ravg = np.stack([np.bincount(E.ravel(), np.repeat(mid[:, c], 2), n) for c in range(3)], 1) / valence[:, None]
+        k = valence[:, None].astype(float)
+        newV = (Qavg + 2 * Ravg + (k - 3) * V) / k
+        V = np.vstack([newV, edge_pt, face_pt])
+        Q = np.stack([idx, n + side, n + len(E) + owner, n + side[prv]], 1)
+    return V, Q
+
+
+def manifold_part(V, polygons):
+    """Polygons whose fan triangulation touches no non-manifold edge or vertex (gdist needs a manifold).
+
+    A polygon mesh can be edge-manifold while its fan triangulation is not: a
+    fan diagonal may coincide with an edge of another polygon (beast.obj: 2
+    such edges, suzanne.obj: 1).
+    """
+    offsets, idx = polygon_arrays(polygons, len(V))
+    F, owner = fan_triangulate(offsets, idx)
+    keep = np.ones(offsets.size - 1, bool)
+    keep[owner[_nonmanifold_triangles(F, len(V))]] = False
+    return [idx[offsets[p] : offsets[p + 1]] for p in np.flatnonzero(keep)]
+
+
+def _nonmanifold_triangles(F, n):
+    """Triangles on an edge with more than two triangles or at a vertex whose triangles form several fans."""
+    from scipy.sparse.csgraph import connected_components
+
+    a, b = F.ravel(), F[:, [1, 2, 0]].ravel()
+    _, side, counts = np.unique(np.minimum(a, b) * n + np.maximum(a, b), return_inverse=True, return_counts=True)
+    bad = np.zeros(len(F), bool)
+    bad[np.arange(a.size)[counts[side] > 2] // 3] = True
+    # corners at one vertex are linked when their triangles share an edge at that vertex
+    corner = np.arange(a.size)
+    prev_side = side.reshape(-1, 3)[:, [2, 0, 1]].ravel()  # side ending at each corner
+    c_side, c_corner = np.r_[side, prev_side], np.r_[corner, corner]
+    order = np.lexsort((a[c_corner], c_side))
+    s, c = c_side[order], c_corner[order]
+    link = (s[1:] == s[:-1]) & (a[c[1:]] == a[c[:-1]])
+    g = sp.coo_matrix((np.ones(int(link.sum())), (c[:-1][link], c[1:][link])), shape=(a.size, a.size))
+    lab = connected_components(g, directed=False)[1]
+    fans = np.bincount(np.unique(np.stack([a, lab], 1), axis=0)[:, 0], minlength=n)
+    bad |= (fans[F] > 1).any(axis=1)
+    return bad
+
+
+def as_lists(offsets, idx):
+    return [idx[offsets[p] : offsets[p + 1]].tolist() for p in range(offsets.size - 1)]
+
+
+POTPOURRI = """
+import json, sys, numpy as np, potpourri3d as pp3d
+data = np.load(sys.argv[1], allow_pickle=True)
+V, polys, s = data["V"], list(data["polys"]), int(data["s"])
+used = np.unique(np.concatenate(polys))
+vmap = np.full(len(V), -1); vmap[used] = np.arange(used.size)
+d = pp3d.PolygonMeshHeatSolver(V[used], [vmap[p].tolist() for p in polys]).compute_distance([int(vmap[s])])
+out = np.full(len(V), np.inf); out[used] = d
+np.save(sys.argv[2], out)
+"""
+
+
+def potpourri_distance(V, polygons, source, tmp_path):
+    """potpourri3d's PolygonMeshHeatSolver distance in a subprocess; None where it crashes."""
+    inp, out = tmp_path / "pp3d_in.npz", tmp_path / "pp3d_out.npy"
+    polys = np.empty(len(polygons), dtype=object)
+    polys[:] = [np.asarray(p, dtype=np.int64) for p in polygons]
+    np.savez(inp, V=V, polys=polys, s=source)
+    run = subprocess.run([sys.executable, "-c", POTPOURRI, str(inp), str(out)], capture_output=True, timeout=300)
+    return np.load(out) if run.returncode == 0 and out.exists() else None
+
+
+def exact_in_subprocess(V, F, source, tmp_path):
+    """gdist (exact geodesics) in a child process: it segfaults on non-manifold input."""
+    inp, out = tmp_path / "gdist_in.npz", tmp_path / "gdist_out.npy"
+    np.savez(inp, V=V, F=F, s=source)
+    code = (
+        "import sys, numpy as np; from conftest import exact_distance; d = np.load(sys.argv[1]); "
+        "np.save(sys.argv[2], exact_distance(d['V'], d['F'], int(d['s'])))"
+    )
+    tests = str(shared_mesh_path("spot").parents[0])  # noqa: F841 - the meshes must exist
+    run = subprocess.run(
+        [sys.executable, "-c", code, str(inp), str(out)],
+        capture_output=True,
+        timeout=300,
+        cwd=str(__import__("pathlib").Path(__file__).parent),
+    )
+    assert run.returncode == 0, run.stderr.decode()[-500:]
+    return np.load(out)
+
+
+def polygon_and_fan_errors(V, polygons, source, exact):
+    """Mean relative errors of PolygonMesh and of TriangleMesh (refine=0 and default) on the fan triangulation."""
+    offsets, idx = polygon_arrays(polygons, len(V))
+    F = fan_triangulate(offsets, idx)[0]
+    poly = mean_relative_error(hc.HeatSolver(PolygonMesh(V, polygons)).distance([source]), exact)
+    tri0 = mean_relative_error(hc.HeatSolver(hc.TriangleMesh(V, F, refine=0)).distance([source]), exact)
+    tri = mean_relative_error(hc.HeatSolver(hc.TriangleMesh(V, F)).distance([source]), exact)
+    return poly, tri0, tri
+
+
+def load_polygons(name):
+    from heatcore.polygon_io import read_polygon_mesh
+
+    return read_polygon_mesh(shared_mesh_path(name))
+
+
+# ---------------------------------------------------------------- operators
+
+
+def grid_and_mixed():
+    V, Q = quad_grid(6, jitter=0.3)
+    V[:, 2] = 0.2 * np.sin(3 * V[:, 0]) * np.cos(2 * V[:, 1])  # non-planar quads
+    polys = [list(q) for q in Q[:-3]]
+    a, b, c, d = Q[-3]
+    polys += [[a, b, c], [a, c, d]]  # two triangles
+    a, b = Q[-2][0], Q[-1][2]  # the last two quads (top row) merged into a hexagon ...
+    polys.append([a, a + 1, a + 2, b, b - 1, b - 2])
+    V[b - 1, 1] -= 0.6 / 5  # ... made non-convex (b - 1 is on the top boundary)
+    return V, polys
+
+
+def test_operators_are_consistent():
+    V, polys = grid_and_mixed()
+    mesh = PolygonMesh(V, polys)
+    ops = mesh.operators
+    L, G = ops.laplacian, ops.gradient
+    A = sp.diags(np.repeat(ops.volumes, ops.dim))
+    assert abs(L - G.T @ A @ G).max() < 1e-12 * abs(L).max()  # divergence consistent with the Laplacian
+    assert abs(L - L.T).max() < 1e-12 * abs(L).max()
+    assert np.allclose(L @ np.ones(L.shape[0]), 0, atol=1e-12)
+    assert np.linalg.eigvalsh(L.toarray()).min() > -1e-10  # positive semi-definite
+    assert np.isclose(ops.mass.sum(), ops.volumes.sum()) and (ops.mass > 0).all()
+    P = mesh.prolongation
+    assert np.allclose(P @ np.ones(P.shape[1]), 1.0)  # affine weights
+    assert mesh.n_virtual == len(polys) - 2 and P.shape == (len(V) + mesh.n_virtual, len(V))
+    # linear functions have exact gradients on a planar mesh
+    Vp = V.copy()
+    Vp[:, 2] = 0
+    g = (PolygonMesh(Vp, polys).operators.gradient @ (3 * Vp[:, 0] + 4 * Vp[:, 1])).reshape(-1, 2)
+    assert np.allclose(np.linalg.norm(g, axis=1), 5.0)
+
+
+def test_input_forms_agree_and_triangles_pass_through():
+    V, polys = grid_and_mixed()
+    L = PolygonMesh(V, polys).operators.laplacian
+    sizes = [len(p) for p in polys]
+    as_csr = (np.r_[0, np.cumsum(sizes)], np.concatenate(polys))
+    assert abs(PolygonMesh(V, as_csr).operators.laplacian - L).max() == 0
+    Vq, Q = quad_grid(5)
+    assert abs(PolygonMesh(Vq, Q).operators.laplacian - PolygonMesh(Vq, Q.tolist()).operators.laplacian).max() == 0
+    # a triangle mesh is its own refinement: the plain cotan operators
+    Vt, Ft = hc.io.load_demo_mesh()
+    tri = PolygonMesh(Vt, Ft)
+    assert tri.n_virtual == 0
+    ref = hc.TriangleMesh(Vt, Ft, refine=0, robust=False).operators
+    assert abs(tri.operators.laplacian - ref.laplacian).max() < 1e-9 * abs(ref.laplacian).max()
+    assert np.allclose(tri.operators.mass, ref.mass)
+
+
+def test_virtual_vertex_minimizes_squared_areas():
+    rng = np.random.default_rng(1)
+    X = rng.normal(size=(20, 6, 3))
+    w = area_minimizer_weights(X)
+    assert np.allclose(w.sum(axis=1), 1.0)
+
+    def energy(p, Xi):
+        return (np.linalg.norm(np.cross(Xi - p, np.roll(Xi, -1, axis=0) - p), axis=1) ** 2).sum()
+
+    for Xi, wi in zip(X, w):
+        p = wi @ Xi
+        e = energy(p, Xi)
+        for step in 1e-4 * rng.normal(size=(20, 3)):
+            assert energy(p + step, Xi) >= e - 1e-12
+    # invariant under translation and scaling; regular polygons get uniform weights
+    assert np.allclose(area_minimizer_weights(3 * X + 5), w)
+    angles = 2 * np.pi * np.arange(7) / 7
+    regular = np.stack([np.cos(angles), np.sin(angles), np.zeros(7)], 1)[None]
+    assert np.allclose(area_minimizer_weights(regular), 1 / 7)
+    # planar polygons keep their virtual vertex in their plane; degenerate ones stay finite
+    planar = X.copy()
+    planar[:, :, 2] = 0.7
+    assert np.allclose(np.einsum("mk,mki->mi", area_minimizer_weights(planar), planar)[:, 2], 0.7)
+    line = np.zeros((1, 5, 3))
+    line[0, :, 0] = np.arange(5)
+    point = np.ones((1, 4, 3))
+    assert np.isfinite(area_minimizer_weights(np.concatenate([line, np.zeros((1, 5, 3))]))).all()
+    assert np.allclose(area_minimizer_weights(point), 0.25)
