@@ -25,7 +25,7 @@ import time
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
+from scipy.sparse.csgraph import connected_components, shortest_path
 
 from .errors import InvalidOptionError
 from .linalg import factor
@@ -65,7 +65,13 @@ class HeatSolver:
     Attributes
     ----------
     t : float
-        The heat time step.
+        The heat time step, ``m_effective h^2``.
+    m_effective : float
+        ``m``, raised where the mesh is so many edge hops across that heat
+        with time factor ``m`` would underflow double precision far from the
+        sources (see :func:`underflow_safe_m`).
+    hop_diameter : int
+        Edge hops across the largest component (double-sweep estimate).
     n_components : int
         Connected components of the domain.
     timings : dict
@@ -95,10 +101,21 @@ class HeatSolver:
         self.timings = {}
         start = time.perf_counter()
         n = ops.n_vertices
-        self.t = self.m * ops.mean_edge_length**2
         self.boundary = boundary if ops.boundary.any() else "neumann"
 
-        self.n_components, self.component = _components(ops.elements, n)
+        graph = _vertex_graph(ops.elements, n)
+        self.n_components, self.component = connected_components(graph, directed=False)
+        self.hop_diameter = _hop_diameter(graph, self.component)
+        self.m_effective = max(self.m, underflow_safe_m(self.hop_diameter))
+        if self.m_effective > self.m:
+            log.info(
+                "mesh is %d edge hops across: time factor raised from m=%g to m=%.3g so that the heat "
+                "stays above double-precision underflow everywhere",
+                self.hop_diameter,
+                self.m,
+                self.m_effective,
+            )
+        self.t = self.m_effective * ops.mean_edge_length**2
         ground = np.full(self.n_components, n, dtype=np.int64)
         np.minimum.at(ground, self.component, np.arange(n))
         self._ground = ground
@@ -195,10 +212,14 @@ class HeatSolver:
     def unit_field(self, u):
         """``-grad u / |grad u|`` per element, 0 where the gradient vanishes or is not finite."""
         g = (self.ops.gradient @ u).reshape(-1, self.ops.dim)
-        norm = np.sqrt(np.einsum("ij,ij->i", g, g))
+        # Far from the sources u (and so g) can be 1e-200: squaring it would
+        # underflow, so normalize by the largest component first.
+        big = np.abs(g).max(axis=1)
         with np.errstate(divide="ignore", invalid="ignore"):
-            scale = np.where(np.isfinite(norm) & (norm > 0), -1.0 / norm, 0.0)
-        return g * scale[:, None]
+            g = g / big[:, None]
+            norm = np.sqrt(np.einsum("ij,ij->i", g, g))
+            scale = np.where(np.isfinite(norm) & (big > 0), -1.0 / norm, 0.0)
+        return np.where(np.isfinite(g), g, 0.0) * scale[:, None]
 
     def _solve_grounded(self, rhs):
         """Solve ``L x = rhs`` per component with ``x = 0`` at each component's ground vertex."""
@@ -259,10 +280,63 @@ def _grounded(L, ground):
     return (K + sp.diags(1.0 - keep)).tocsc()
 
 
-def _components(elements, n):
-    """Connected components of the vertex graph induced by the elements."""
+def _vertex_graph(elements, n):
+    """Sparse adjacency of the vertex graph induced by the elements (a star per element)."""
     k = elements.shape[1]
     rows = np.repeat(elements[:, 0], k - 1)
     cols = elements[:, 1:].ravel()
-    graph = sp.coo_matrix((np.ones(rows.size), (rows, cols)), shape=(n, n))
-    return connected_components(graph, directed=False)
+    graph = sp.coo_matrix((np.ones(rows.size), (rows, cols)), shape=(n, n)).tocsr()
+    return (graph + graph.T).tocsr()
+
+
+#: Decimal orders of magnitude the heat may fall over the mesh: double
+#: precision underflows near 1e-308, and the heat must stay well above it.
+HEAT_DECADES_BUDGET = 250.0
+#: Decimal orders of magnitude the heat falls per edge hop, relative to the 1D
+#: backward-Euler rate; measured on intrinsic Delaunay meshes (0.55 decades per
+#: hop at m = 1, where the 1D rate is 0.42).
+HOP_DECAY_FACTOR = 1.3
+
+
+def heat_decay_per_hop(m):
+    """Decimal orders of magnitude one backward-Euler heat step of ``t = m h^2`` falls per hop (1D)."""
+    ratio = 2 * m / ((1 + 2 * m) + np.sqrt(1 + 4 * m))  # root of m r^2 - (1 + 2m) r + m = 0
+    return -np.log10(ratio)
+
+
+def underflow_safe_m(hop_diameter, budget=HEAT_DECADES_BUDGET):
+    """Smallest time factor keeping the heat representable across ``hop_diameter`` hops.
+
+    With ``t = m h^2`` the heat falls by a constant factor per edge hop (about
+    0.38 in 1D at m = 1), so on a mesh hundreds of hops across it underflows
+    double precision and its gradient is noise. This returns the smallest
+    ``m`` whose decay over the diameter stays within ``budget`` decades.
+
+    Examples
+    --------
+    >>> bool(underflow_safe_m(300) < 1.0)
+    True
+    >>> round(float(underflow_safe_m(700)), 2)
+    2.42
+    """
+
+    def decades(m):
+        return hop_diameter * HOP_DECAY_FACTOR * heat_decay_per_hop(m)
+
+    lo, hi = 1e-9, 1.0
+    while decades(hi) > budget:
+        lo, hi = hi, 2.0 * hi
+    for _ in range(60):  # bisection on log m; decades(m) decreases with m
+        mid = np.sqrt(lo * hi)
+        lo, hi = (mid, hi) if decades(mid) > budget else (lo, mid)
+    return float(hi)
+
+
+def _hop_diameter(graph, component):
+    """Edge hops across the largest component: two breadth-first sweeps."""
+    largest = np.bincount(component).argmax()
+    start = int(np.flatnonzero(component == largest)[0])
+    hops = shortest_path(graph, unweighted=True, indices=start, directed=False)
+    far = int(np.argmax(np.where(np.isfinite(hops), hops, -1)))
+    hops = shortest_path(graph, unweighted=True, indices=far, directed=False)
+    return int(np.max(hops[np.isfinite(hops)]))
