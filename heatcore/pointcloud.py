@@ -61,6 +61,12 @@ MIN_K, MAX_K = 6, 256
 MAX_NEIGHBOR_RATIO = 3.0
 #: The local spacing of a point: distance to its ``SPACING_RANK``-th neighbor.
 SPACING_RANK = 6
+#: Neighbors whose offset along the normal exceeds this multiple of their
+#: tangential distance (a slope) are left out: they lie across a thin gap.
+MAX_SLOPE = 0.6
+#: Neighbors used for PCA normals (the nearest ones: far neighbors may lie on
+#: another sheet of a thin part).
+PCA_NEIGHBORS = None
 #: Points closer than this fraction of the bounding-box diagonal are merged.
 DUPLICATE_TOLERANCE = 1e-9
 
@@ -139,7 +145,7 @@ class PointCloud:
 
         nbr, dist = _neighborhoods(self.distinct, self.k)
         if normals is None:
-            self.normals = pca_normals(self.distinct, nbr)
+            self.normals = pca_normals(self.distinct, nbr[:, :PCA_NEIGHBORS])
         else:
             self.normals = _normal_array(normals, n_in, self.point_map, n)
         tri, votes, self.boundary_points = local_delaunay_triangles(self.distinct, self.normals, nbr)
@@ -332,8 +338,9 @@ def local_delaunay_triangles(P, normals, nbr):
     R = P[np.maximum(nbr, 0)] - P[:, None]
     x = np.einsum("nkd,nd->nk", R, e1)
     y = np.einsum("nkd,nd->nk", R, e2)
+    z = np.einsum("nkd,nd->nk", R, normals)
     r2 = x * x + y * y
-    valid &= r2 > 0
+    valid &= (r2 > 0) & (z * z <= MAX_SLOPE**2 * r2)
     with np.errstate(divide="ignore", invalid="ignore"):
         ux, uy = np.where(valid, x / r2, 0.0), np.where(valid, y / r2, 0.0)  # inversion
     ang = np.where(valid, np.arctan2(y, x), 10.0)  # invalid entries sort last
