@@ -1,0 +1,219 @@
+"""Point-cloud accuracy against exact geodesics and potpourri3d's PointCloudHeatSolver.
+
+The points are the vertices of the shared test meshes; the reference is the
+exact (MMP, gdist) geodesic distance on the mesh they come from. Each mesh is
+run in four scenarios, from three random source points each:
+
+clean
+    every vertex.
+hole
+    30% of the points removed in one patch (the geodesic ball around a random
+    vertex); the reference is the exact distance on the mesh without the
+    triangles that lost a vertex, so paths must go around the hole.
+nonuniform
+    points kept with a probability rising linearly from 0.2 to 1 along the
+    longest bounding-box axis (a 5x density change); reference: the full mesh.
+noise
+    Gaussian noise of standard deviation 0.1 h per coordinate (h = mean edge
+    length); reference: the clean mesh at the original positions.
+
+heatcore (``PointCloud`` with defaults, ``HeatSolver`` with defaults) and
+potpourri3d (``PointCloudHeatSolver``, default ``t_coef``) get the same
+points and sources in the same process.
+
+Usage::
+
+    python scripts/bench_pointcloud.py --meshes ../shared/meshes --out /tmp/pointcloud.md
+    python scripts/bench_pointcloud.py --picture docs/images/pointcloud_spot.png
+
+Needs the ``bench`` extra (gdist, potpourri3d) and matplotlib for the picture.
+"""
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+import heatcore as hc
+from heatcore.pointcloud import PointCloud
+
+REPO = Path(__file__).resolve().parents[1]
+MESHES = ["spot", "homer", "fandisk", "cheburashka", "rocker-arm", "nefertiti", "stanford-bunny"]
+SCENARIOS = ["clean", "hole", "nonuniform", "noise"]
+HOLE_FRACTION = 0.3
+NOISE = 0.1  # times the mean edge length
+
+
+def exact_distance(V, F, source):
+    """Exact geodesic distance (gdist) from one vertex; inf at unreferenced vertices."""
+    import gdist
+
+    used = np.unique(F)
+    vmap = np.full(len(V), -1)
+    vmap[used] = np.arange(used.size)
+    d = gdist.compute_gdist(
+        np.ascontiguousarray(V[used], dtype=np.float64),
+        np.ascontiguousarray(vmap[F], dtype=np.int32),
+        np.array([vmap[source]], dtype=np.int32),
+    )
+    out = np.full(len(V), np.inf)
+    out[used] = d
+    return out
+
+
+def mean_relative_error(d, exact):
+    """Mean of ``|d - exact| / exact`` over points with finite exact distance > 0."""
+    mask = np.isfinite(exact) & (exact > 0)
+    return float(np.mean(np.abs(d[mask] - exact[mask]) / exact[mask]))
+
+
+def scenario(V, F, kind, seed=0, n_sources=3):
+    """Points, source indices and exact reference distances for one scenario.
+
+    Parameters
+    ----------
+    V, F : the mesh
+    kind : one of ``SCENARIOS``
+    seed : int
+
+    Returns
+    -------
+    P : (n, 3) float array, the cloud
+    sources : (s,) int array, indices into ``P``
+    exact : list of (n,) float arrays, exact distance from each source (inf: no reference)
+    """
+    rng = np.random.default_rng(seed)
+    used = np.unique(F)
+    keep = np.zeros(len(V), dtype=bool)
+    keep[used] = True
+    ref_F = F
+    P_all = V.copy()
+    if kind == "hole":
+        center = rng.choice(used)
+        d = exact_distance(V, F, center)[used]
+        removed = used[np.argsort(d)[: int(HOLE_FRACTION * used.size)]]
+        keep[removed] = False
+        ref_F = F[keep[F].all(axis=1)]
+        keep &= np.isin(np.arange(len(V)), ref_F)
+    elif kind == "nonuniform":
+        axis = np.argmax(np.ptp(V[used], axis=0))
+        x = (V[:, axis] - V[used, axis].min()) / np.ptp(V[used, axis])
+        keep &= rng.random(len(V)) < 0.2 + 0.8 * x
+    elif kind == "noise":
+        e = np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])
+        h = np.linalg.norm(V[e[:, 0]] - V[e[:, 1]], axis=1).mean()
+        P_all = V + rng.normal(scale=NOISE * h, size=V.shape)
+    elif kind != "clean":
+        raise ValueError(f"unknown scenario {kind!r}")
+    idx = np.flatnonzero(keep)
+    src = rng.choice(idx.size, n_sources, replace=False)
+    exact = [exact_distance(V, ref_F, idx[s])[idx] for s in src]
+    return P_all[idx], src, exact
+
+
+def heatcore_errors(P, sources, exact):
+    """Mean relative error of heatcore per source, and build seconds."""
+    start = time.perf_counter()
+    solver = hc.HeatSolver(PointCloud(P))
+    build = time.perf_counter() - start
+    return [mean_relative_error(solver.distance([s]), e) for s, e in zip(sources, exact)], build
+
+
+def potpourri_errors(P, sources, exact):
+    """The same for potpourri3d's PointCloudHeatSolver."""
+    import potpourri3d as pp3d
+
+    start = time.perf_counter()
+    solver = pp3d.PointCloudHeatSolver(P)
+    build = time.perf_counter() - start
+    return [mean_relative_error(solver.compute_distance(int(s)), e) for s, e in zip(sources, exact)], build
+
+
+def run(mesh_dir, meshes, scenarios):
+    from heatcore.io import read_mesh
+
+    rows = []
+    for name in meshes:
+        mesh = read_mesh(Path(mesh_dir) / f"{name}.obj")
+        V, F = mesh.vertices, mesh.faces
+        for kind in scenarios:
+            P, sources, exact = scenario(V, F, kind)
+            ours, t_ours = heatcore_errors(P, sources, exact)
+            peer, t_peer = potpourri_errors(P, sources, exact)
+            row = (name, kind, P.shape[0], np.mean(ours), np.mean(peer), t_ours, t_peer)
+            rows.append(row)
+            print(
+                f"{name:15s} {kind:10s} n={P.shape[0]:6d} heatcore {100 * row[3]:.2f}% "
+                f"potpourri3d {100 * row[4]:.2f}%  build {t_ours:.2f}s / {t_peer:.2f}s",
+                flush=True,
+            )
+    return rows
+
+
+def markdown(rows):
+    lines = [
+        "| mesh | scenario | points | heatcore | potpourri3d | heatcore build (s) | potpourri3d build (s) |",
+        "|---|---|---:|---:|---:|---:|---:|",
+    ]
+    for name, kind, n, ours, peer, t_ours, t_peer in rows:
+        lines.append(
+            f"| {name} | {kind} | {n:,} | {100 * ours:.2f}% | {100 * peer:.2f}% | {t_ours:.2f} | {t_peer:.2f} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def picture(mesh_dir, path):
+    """Scatter plots of spot as a cloud: all points, and with a 30% hole."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from heatcore.io import read_mesh
+
+    mesh = read_mesh(Path(mesh_dir) / "spot.obj")
+    V, F = mesh.vertices, mesh.faces
+    fig = plt.figure(figsize=(12, 6))
+    for col, kind in enumerate(["clean", "hole"]):
+        P, sources, exact = scenario(V, F, kind)
+        d = hc.HeatSolver(PointCloud(P)).distance([sources[0]])
+        err = mean_relative_error(d, exact[0])
+        ax = fig.add_subplot(1, 2, col + 1, projection="3d")
+        stripes = np.mod(d / np.nanmax(d) * 12, 1.0) < 0.12  # isolines
+        color = np.where(stripes, np.nan, d)
+        ax.scatter(P[:, 0], P[:, 2], P[:, 1], c=color, cmap="viridis", s=4, depthshade=False,
+                   plotnonfinite=True)
+        ax.scatter(*P[sources[0]][[0, 2, 1]], c="red", s=60)
+        ax.view_init(elev=15, azim=-60 if kind == "clean" else 120)
+        ax.set_box_aspect(np.ptp(P[:, [0, 2, 1]], axis=0))
+        ax.set_axis_off()
+        title = "all points" if kind == "clean" else f"{int(100 * HOLE_FRACTION)}% removed in a patch"
+        ax.set_title(f"spot as a point cloud, {title}\n{P.shape[0]} points, mean rel. error {100 * err:.1f}%")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    print(f"wrote {path}")
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--meshes", default=str(REPO.parent / "shared" / "meshes"))
+    parser.add_argument("--only", nargs="*", default=MESHES, help="mesh names")
+    parser.add_argument("--scenarios", nargs="*", default=SCENARIOS)
+    parser.add_argument("--out", help="write the markdown table here")
+    parser.add_argument("--picture", help="write the scatter picture here and stop")
+    args = parser.parse_args(argv)
+    if args.picture:
+        picture(args.meshes, args.picture)
+        return 0
+    rows = run(args.meshes, args.only, args.scenarios)
+    table = markdown(rows)
+    print(table)
+    if args.out:
+        Path(args.out).write_text(table)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
