@@ -1,6 +1,5 @@
 """accuracy="high": the heat-ordered eikonal refinement (heatcore.eikonal)."""
 
-import time
 
 import numpy as np
 import pytest
@@ -192,23 +191,3 @@ def test_high_accuracy_with_several_sources_at_once():
     exact = exact_distance(V, F, s)
     d = hc.HeatSolver(hc.TriangleMesh(V, F), accuracy="high").distance(s)
     assert mean_relative_error(d, exact) <= 0.005
-
-
-def test_high_query_time_on_nefertiti(nefertiti):
-    """High mode: at most 10x the smooth query, and below one exact (MMP) solve."""
-    V, F, _, smooth, high = nefertiti
-    s = int(three_sources(F)[0])
-    high.distance([s])  # builds the cached corner table
-    t_smooth = t_high = np.inf
-    for _ in range(7):  # interleaved, best of 7: robust to a busy machine
-        start = time.perf_counter()
-        smooth.distance([s])
-        t_smooth = min(t_smooth, time.perf_counter() - start)
-        start = time.perf_counter()
-        high.distance([s])
-        t_high = min(t_high, time.perf_counter() - start)
-    start = time.perf_counter()
-    exact_distance(V, F, s)
-    t_exact = time.perf_counter() - start
-    assert t_high <= 10 * t_smooth, (t_high, t_smooth)
-    assert t_high < t_exact, (t_high, t_exact)
