@@ -67,6 +67,9 @@ MAX_SLOPE = 0.6
 #: Neighbors used for PCA normals (the nearest ones: far neighbors may lie on
 #: another sheet of a thin part).
 PCA_NEIGHBORS = None
+#: Triangles whose doubled area is below this fraction of their longest
+#: squared side (all angles nearly 0 or pi) are left out.
+MIN_SINE = 1e-6
 #: Points closer than this fraction of the bounding-box diagonal are merged.
 DUPLICATE_TOLERANCE = 1e-9
 
@@ -201,7 +204,7 @@ class PointCloud:
         """Operator vertex of each input point (``-1`` for points in no triangle)."""
         return self._operator_vertex[self.point_map]
 
-    def source_pins(self, vertices=None):
+    def source_pins(self, vertices=None, **other):
         """Source points (indices into the input points) as :class:`SourcePins`.
 
         Raises
@@ -210,6 +213,10 @@ class PointCloud:
             No source, indices out of range, or an isolated point (one that
             lies in no triangle: too far from every other point).
         """
+        if other:
+            raise InvalidSourceError(
+                f"point clouds take source points (vertex indices) only, not {', '.join(sorted(other))}"
+            )
         if vertices is None:
             raise InvalidSourceError("no source given: pass point indices")
         v = index_list(vertices, self.n_input_vertices, "point")
@@ -281,13 +288,14 @@ def _neighborhoods(P, k):
     """k nearest neighbors (self excluded), -1 where a neighbor is too far to count.
 
     A neighbor ``j`` of ``i`` is kept when ``|p_i - p_j| <= MAX_NEIGHBOR_RATIO
-    * max(s_i, s_j)``, with ``s`` the distance to the ``SPACING_RANK``-th
-    neighbor; this separates clusters without cutting density changes.
+    * min(s_i, s_j)``, with ``s`` the distance to the ``SPACING_RANK``-th
+    neighbor: clusters and isolated points stay apart (the far side's
+    spacing is small), while density changes of a few times are kept.
     """
     dist, idx = cKDTree(P).query(P, k + 1)
     dist, idx = dist[:, 1:], idx[:, 1:]
     spacing = dist[:, min(SPACING_RANK, k) - 1]
-    far = dist > MAX_NEIGHBOR_RATIO * np.maximum(spacing[:, None], spacing[idx])
+    far = dist > MAX_NEIGHBOR_RATIO * np.minimum(spacing[:, None], spacing[idx])
     idx = np.where(far, -1, idx)
     return idx, dist
 
@@ -380,6 +388,10 @@ def local_delaunay_triangles(P, normals, nbr):
     T = np.stack([i, nb[i, j], nb[i, nxt[i, j]]], axis=1)
     T = np.sort(T, axis=1)
     T = T[(T[:, 0] != T[:, 1]) & (T[:, 1] != T[:, 2])]
+    # drop triangles that are flat in 3D (collinear points): no area, no direction
+    l2 = np.stack([((P[T[:, a]] - P[T[:, b]]) ** 2).sum(axis=1) for a, b in ((0, 1), (1, 2), (2, 0))], axis=1)
+    doubled_area = np.linalg.norm(np.cross(P[T[:, 1]] - P[T[:, 0]], P[T[:, 2]] - P[T[:, 0]]), axis=1)
+    T = T[doubled_area > MIN_SINE * l2.max(axis=1)]
     if T.size:
         T, votes = np.unique(T, axis=0, return_counts=True)
     else:
