@@ -165,7 +165,11 @@ def markdown(rows):
 
 
 def picture(mesh_dir, path):
-    """Scatter plots of spot as a cloud: all points, and with a 30% hole."""
+    """Scatter plots of spot as a cloud, colored by distance: all points, and with a 30% hole.
+
+    Orthographic views drawn back to front (matplotlib's 3D scatter does not
+    sort points by depth); black points mark isolines.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -175,25 +179,42 @@ def picture(mesh_dir, path):
 
     mesh = read_mesh(Path(mesh_dir) / "spot.obj")
     V, F = mesh.vertices, mesh.faces
-    fig = plt.figure(figsize=(12, 6))
-    for col, kind in enumerate(["clean", "hole"]):
+    fig, axes = plt.subplots(1, 2, figsize=(12, 6))
+    for ax, kind in zip(axes, ["clean", "hole"]):
         P, sources, exact = scenario(V, F, kind)
         d = hc.HeatSolver(PointCloud(P)).distance([sources[0]])
         err = mean_relative_error(d, exact[0])
-        ax = fig.add_subplot(1, 2, col + 1, projection="3d")
-        stripes = np.mod(d / np.nanmax(d) * 12, 1.0) < 0.12  # isolines
-        color = np.where(stripes, np.nan, d)
-        ax.scatter(P[:, 0], P[:, 2], P[:, 1], c=color, cmap="viridis", s=4, depthshade=False,
-                   plotnonfinite=True)
-        ax.scatter(*P[sources[0]][[0, 2, 1]], c="red", s=60)
-        ax.view_init(elev=15, azim=-60 if kind == "clean" else 120)
-        ax.set_box_aspect(np.ptp(P[:, [0, 2, 1]], axis=0))
+        if kind == "hole":  # look into the hole: its centre faces the viewer
+            used = np.unique(F)
+            gone = np.setdiff1d(np.arange(len(used)), _rows_in(V[used], P))
+            direction = V[used][gone].mean(axis=0) - V[used].mean(axis=0)
+        else:
+            direction = V[sources[0]] - V.mean(axis=0)
+        azim = np.arctan2(direction[0], direction[2])
+        c, s = np.cos(azim), np.sin(azim)
+        x = c * P[:, 0] - s * P[:, 2]
+        depth = s * P[:, 0] + c * P[:, 2]
+        order = np.argsort(depth)
+        iso = np.mod(d / d.max() * 15, 1.0) < 0.12
+        colors = plt.cm.viridis(d / d.max())
+        colors[iso] = (0, 0, 0, 1)
+        ax.scatter(x[order], P[order, 1], c=colors[order], s=7, linewidths=0)
+        ax.scatter(x[sources[0]], P[sources[0], 1], c="red", s=80, marker="*")
+        ax.set_aspect("equal")
         ax.set_axis_off()
         title = "all points" if kind == "clean" else f"{int(100 * HOLE_FRACTION)}% removed in a patch"
         ax.set_title(f"spot as a point cloud, {title}\n{P.shape[0]} points, mean rel. error {100 * err:.1f}%")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=100)
     print(f"wrote {path}")
+
+
+def _rows_in(A, B):
+    """Indices of the rows of ``A`` that also occur in ``B`` (exact match)."""
+    from scipy.spatial import cKDTree
+
+    dist, _ = cKDTree(B).query(A)
+    return np.flatnonzero(dist == 0)
 
 
 def main(argv=None):
