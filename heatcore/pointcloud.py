@@ -7,8 +7,10 @@ section 5):
 
 1. neighborhoods: the ``k`` nearest neighbors of each point (a KD-tree),
    without neighbors much farther than the local spacing (so that separate
-   clusters stay separate);
-2. tangent planes: PCA of each neighborhood, or the given normals;
+   clusters and stray points stay separate);
+2. tangent planes: PCA of each neighborhood, or the given normals; neighbors
+   far off the tangent plane (slope above ``MAX_SLOPE``: the other side of a
+   thin part) are left out;
 3. local triangulations: the neighbors are projected onto the tangent plane and
    the point's 1-ring in the planar Delaunay triangulation of its
    neighborhood is kept (computed for all points at once: a neighbor ``q`` of
@@ -64,9 +66,6 @@ SPACING_RANK = 6
 #: Neighbors whose offset along the normal exceeds this multiple of their
 #: tangential distance (a slope) are left out: they lie across a thin gap.
 MAX_SLOPE = 0.6
-#: Neighbors used for PCA normals (the nearest ones: far neighbors may lie on
-#: another sheet of a thin part).
-PCA_NEIGHBORS = None
 #: Triangles whose doubled area is below this fraction of their longest
 #: squared side (all angles nearly 0 or pi) are left out.
 MIN_SINE = 1e-6
@@ -103,6 +102,8 @@ class PointCloud:
         The points after merging duplicates; ``point_map`` sends each input
         point to its distinct point.
     normals : (n', 3) float array, unit normals of the distinct points
+    votes : (m,) int array
+        How many points proposed each triangle (1 to 3).
     boundary_points : (n',) bool array
         Distinct points whose neighborhood leaves an angular gap of at least
         pi (scan borders and hole rims).
@@ -130,7 +131,6 @@ class PointCloud:
 
     element_name = "triangle"
     intrinsic = None  # the eikonal refinement (accuracy="high") needs a mesh
-    min_votes = 1
 
     def __init__(self, P, normals=None, *, k=None, refine="auto"):
         self.points = vertex_array(P, name="P")
@@ -148,12 +148,11 @@ class PointCloud:
 
         nbr, dist = _neighborhoods(self.distinct, self.k)
         if normals is None:
-            self.normals = pca_normals(self.distinct, nbr[:, :PCA_NEIGHBORS])
+            self.normals = pca_normals(self.distinct, nbr)
         else:
             self.normals = _normal_array(normals, n_in, self.point_map, n)
         tri, votes, self.boundary_points = local_delaunay_triangles(self.distinct, self.normals, nbr)
         self.votes = votes
-        tri = tri[votes >= self.min_votes]
         self.triangles = tri
         if tri.shape[0] == 0:
             raise InvalidMeshError(
@@ -334,6 +333,7 @@ def local_delaunay_triangles(P, normals, nbr):
     Returns
     -------
     triangles : (m, 3) int array, each proposed triangle once (sorted indices)
+    votes : (m,) int array, how many points proposed each triangle
     boundary : (n,) bool array, points whose 1-ring leaves a gap of at least pi
     """
     n, k = nbr.shape
