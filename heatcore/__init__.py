@@ -9,7 +9,7 @@ Examples
 >>> d1, d2 = solver.distance([0]), solver.distance([5, 9])
 """
 
-from . import io, linalg
+from . import io, linalg, tet_io
 from .errors import (
     HeatcoreError,
     HeatcoreWarning,
@@ -20,6 +20,8 @@ from .errors import (
 )
 from .heat import HeatSolver
 from .operators import Operators
+from .polygon import PolygonMesh
+from .tet import TetMesh
 from .triangle import TriangleMesh
 
 __version__ = "0.1.0"
@@ -28,6 +30,9 @@ __all__ = [
     "geodesic_distance",
     "HeatSolver",
     "TriangleMesh",
+    "PolygonMesh",
+    "TetMesh",
+    "tet_io",
     "Operators",
     "HeatcoreError",
     "HeatcoreWarning",

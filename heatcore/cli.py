@@ -40,7 +40,8 @@ DEMO_SOURCE = 1453
 DEMO_VIEW = {"elevation": 15.0, "azimuth": 150.0, "up": "y"}
 #: Isolines in the PNG when ``--isolines`` is not given.
 PNG_ISOLINES = 12
-OUTPUT_SUFFIXES = (".ply", ".npy", ".csv")
+OUTPUT_SUFFIXES = (".ply", ".npy", ".csv", ".vtu", ".vtk", ".msh")
+VOLUME_OUTPUT_SUFFIXES = (".vtu", ".vtk", ".msh")
 
 
 class CliError(HeatcoreError):
@@ -119,16 +120,15 @@ def add_solver_options(parser):
         group.add_argument(*flags, **kwargs)
 
 
-def build_solver(V, F, args):
-    """TriangleMesh + HeatSolver from the parsed solver options, with timing lines."""
+def build_solver(source, args):
+    """Domain + HeatSolver from a :class:`~heatcore.domain_io.DomainFile` and the solver options."""
     from .heat import HeatSolver
-    from .triangle import TriangleMesh
 
     kw = {"mesh": {}, "solver": {}}
     for _, target, kwargs in SOLVER_OPTIONS:
         kw[target][kwargs["dest"]] = getattr(args, kwargs["dest"])
     with _stage("precompute"):
-        solver = HeatSolver(TriangleMesh(V, F, **kw["mesh"]), **kw["solver"])
+        solver = HeatSolver(source.domain(**kw["mesh"]), **kw["solver"])
     return solver
 
 
@@ -220,18 +220,18 @@ def read_sources_file(path):
     return indices
 
 
-def read_mesh_file(path):
-    """:func:`heatcore.io.read_mesh`, with reader chatter and exits turned into one error.
+def read_mesh_file(path, kind="auto"):
+    """:func:`heatcore.domain_io.read_domain`, with reader chatter and exits turned into one error.
 
     meshio prints to stdout/stderr and calls ``sys.exit`` on some malformed
-    PLY files; a command must not die that way.
+    files; a command must not die that way.
     """
-    from .io import read_mesh
+    from .domain_io import read_domain
 
     chatter = StringIO()
     try:
         with contextlib.redirect_stdout(chatter), contextlib.redirect_stderr(chatter):
-            return read_mesh(path)
+            return read_domain(path, kind)
     except SystemExit:
         detail = " ".join(chatter.getvalue().split()) or "the reader gave up"
         raise CliError(f"cannot read mesh file {path}: {detail}") from None
@@ -271,7 +271,8 @@ def gather_sources(args, mesh):
 
 
 def write_output(path, V, F, d, sources, colormap, isolines):
-    """Write distances by file extension: .ply (quality + colors + selection), .npy, .csv."""
+    """Write distances by extension: .ply (quality + colors + selection), .npy, .csv, or
+    .vtu/.vtk/.msh (``F`` the tets; a point-data field ``distance``)."""
     from .colormap import colorize, to_uint8
 
     path = Path(path)
@@ -280,6 +281,10 @@ def write_output(path, V, F, d, sources, colormap, isolines):
         from .io import write_ply
 
         write_ply(path, V, F, d, to_uint8(colorize(d, colormap, isolines=isolines or 0)), selection=sources)
+    elif suffix in VOLUME_OUTPUT_SUFFIXES:
+        from .tet_io import write_tet_distance
+
+        write_tet_distance(path, V, F, d)
     elif suffix == ".npy":
         np.save(path, d)
     elif suffix == ".csv":
@@ -311,7 +316,13 @@ def _summary(d):
 
 def _distance_arguments(p):
     p.add_argument("mesh", type=Path, metavar="MESH",
-                   help="mesh file: PLY (keeps MeshLab's vertex selection), OBJ, OFF, STL, glTF, ...")
+                   help="mesh file: PLY (keeps MeshLab's vertex selection), OBJ, OFF, STL, glTF, ...; "
+                        "tetrahedral meshes (.msh, .vtu, .vtk, .mesh, .node/.ele); point clouds "
+                        "(.xyz, or PLY/OBJ without faces)")
+    p.add_argument("--domain", choices=("auto", "triangle", "polygon", "tet", "points"), default="auto",
+                   help="how to read MESH: auto (tets from volume formats, points from files without "
+                        "faces, triangles otherwise), or force one; 'polygon' keeps quads and n-gons "
+                        "(virtual refinement) instead of triangulating them (default: %(default)s)")
     src = p.add_argument_group("sources (combined; default: the PLY's selected vertices)")
     src.add_argument("-s", "--source", type=int, action="append", metavar="INDEX",
                      help="source vertex index (0-based); repeat for several sources")
@@ -320,7 +331,8 @@ def _distance_arguments(p):
                           "('#' starts a comment); may be repeated")
     p.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                    help="output file, format by extension: .ply (quality + colors), .npy, .csv "
-                        "(index,distance); repeat for several")
+                        "(index,distance), or for tetrahedral meshes .vtu/.vtk/.msh (point-data field "
+                        "'distance'); repeat for several")
     add_output_options(p, png_help="also write a PNG picture of the distance field (matplotlib)")
     add_solver_options(p)
     add_common_options(p)
@@ -344,25 +356,42 @@ def run_distance(args):
             raise CliError(f"output {out}: unknown extension; use one of {', '.join(OUTPUT_SUFFIXES)}")
     check_writable(args.output + ([args.png] if args.png is not None else []))
     with _stage("read mesh"):
-        mesh = read_mesh_file(args.mesh)
-    log.info("mesh: %d vertices, %d triangles", len(mesh.vertices), len(mesh.faces))
+        mesh = read_mesh_file(args.mesh, args.domain)
+    check_outputs_fit(args, mesh.kind)
+    log.info("%s: %d vertices", {"points": "point cloud", "tet": "tetrahedral mesh"}.get(mesh.kind, f"{mesh.kind} mesh"),
+             len(mesh.vertices))
     sources, origin = gather_sources(args, mesh)
     check_sources(sources, len(mesh.vertices))
     log.info("sources: %d from %s", sources.size, origin)
-    solver = build_solver(mesh.vertices, mesh.faces, args)
+    solver = build_solver(mesh, args)
     with _stage("query"):
         d = solver.distance(sources)
     log.info("%s", _summary(d))
+    cells = mesh.cells if mesh.kind == "tet" else mesh.surface
     with _stage("write"):
         for out in args.output:
-            write_output(out, mesh.vertices, mesh.faces, d, sources, args.colormap, args.isolines)
+            faces = cells if Path(out).suffix.lower() in VOLUME_OUTPUT_SUFFIXES else mesh.surface
+            write_output(out, mesh.vertices, faces if faces is not None else np.zeros((0, 3), int), d,
+                         sources, args.colormap, args.isolines)
             print(f"wrote {out}")
     if args.png is not None:
         with _stage("render"):
-            render_png(args.png, mesh.vertices, mesh.faces, d, sources, args.colormap, args.isolines,
+            render_png(args.png, mesh.vertices, mesh.surface, d, sources, args.colormap, args.isolines,
                        title=args.mesh.name)
         print(f"wrote {args.png}")
     return 0
+
+
+def check_outputs_fit(args, kind):
+    """Refuse outputs that cannot hold this kind of domain, before the precompute."""
+    for out in args.output:
+        volume = Path(out).suffix.lower() in VOLUME_OUTPUT_SUFFIXES
+        if volume and kind != "tet":
+            raise CliError(f"output {out}: .vtu/.vtk/.msh outputs are for tetrahedral meshes; use .ply, .npy or .csv")
+        if kind == "tet" and Path(out).suffix.lower() == ".ply":
+            raise CliError(f"output {out}: a tetrahedral mesh is written as .vtu, .vtk or .msh (or .npy/.csv)")
+    if kind == "points" and args.png is not None:
+        raise CliError("--png draws surfaces; a point cloud has none (write .ply, .npy or .csv)")
 
 
 # --------------------------------------------------------------------------- demo
@@ -394,17 +423,17 @@ def run_demo(args):
         raise CliError(f"cannot create output folder {out_dir}: {exc.strerror or exc}") from exc
     with _stage("read mesh"):
         mesh = read_mesh_file(demo_mesh_path())
-    log.info("mesh: spot, %d vertices, %d triangles", len(mesh.vertices), len(mesh.faces))
+    log.info("mesh: spot, %d vertices, %d triangles", len(mesh.vertices), len(mesh.surface))
     sources = np.array([DEMO_SOURCE])
-    solver = build_solver(mesh.vertices, mesh.faces, args)
+    solver = build_solver(mesh, args)
     with _stage("query"):
         d = solver.distance(sources)
     log.info("%s", _summary(d))
     ply, png = out_dir / "demo.ply", out_dir / "demo.png"
     with _stage("write"):
-        write_output(ply, mesh.vertices, mesh.faces, d, sources, args.colormap, args.isolines)
+        write_output(ply, mesh.vertices, mesh.surface, d, sources, args.colormap, args.isolines)
     with _stage("render"):
-        render_png(png, mesh.vertices, mesh.faces, d, sources, args.colormap, args.isolines,
+        render_png(png, mesh.vertices, mesh.surface, d, sources, args.colormap, args.isolines,
                    title="geodesic distance from spot's nose (heat method)", view=DEMO_VIEW)
     t = _stage.timings
     print(f"wrote {ply}  (distance as vertex quality and colors; open it in MeshLab)")

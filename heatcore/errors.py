@@ -14,6 +14,10 @@ class InvalidMeshError(HeatcoreError, ValueError):
     """The mesh arrays are malformed: wrong shapes, bad indices, NaN/inf coordinates."""
 
 
+class NoFacesError(InvalidMeshError):
+    """A surface mesh file holds vertices but no faces (it may be read as a point cloud)."""
+
+
 class InvalidSourceError(HeatcoreError, ValueError):
     """The source specification is empty, out of range or refers to unused geometry."""
 

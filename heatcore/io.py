@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InvalidMeshError
+from .errors import InvalidMeshError, NoFacesError
 
 #: MeshLab (VCG) stores the selection in bit 5 of the per-vertex ``flags`` PLY property.
 MESHLAB_SELECTED_FLAG = 0x20
@@ -90,7 +90,7 @@ def _read_trimesh(path):
 
     mesh = trimesh.load(str(path), process=False, maintain_order=True, force="mesh")
     if len(mesh.faces) == 0:
-        raise InvalidMeshError(f"{path} holds no faces")
+        raise NoFacesError(f"{path} holds no faces")
     return SurfaceMesh(np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces, dtype=np.int64))
 
 
@@ -112,7 +112,7 @@ def _read_meshio(path):
             fan = np.stack([np.zeros(k - 2, int), np.arange(1, k - 1), np.arange(2, k)], axis=1)
             faces.append(data[:, fan].reshape(-1, 3))
     if not faces:
-        raise InvalidMeshError(f"{path} holds no triangles or polygons")
+        raise NoFacesError(f"{path} holds no triangles or polygons")
     data = {k: np.asarray(v) for k, v in mesh.point_data.items() if np.ndim(v) == 1}
     return SurfaceMesh(np.asarray(mesh.points, dtype=float)[:, :3], np.concatenate(faces), data)
 
@@ -124,7 +124,7 @@ def write_ply(path, V, F, quality, colors, selection=None):
     ----------
     path : str or path-like
     V : (n, 3) float array
-    F : (m, 3) int array
+    F : (m, 3) int array (``m`` may be 0: a point cloud)
     quality : (n,) float array, written as ``property double quality``
     colors : (n, 3) uint8 array
     selection : (k,) int array, optional
@@ -139,5 +139,7 @@ def write_ply(path, V, F, quality, colors, selection=None):
         flags = np.zeros(len(V), dtype=np.int32)
         flags[np.asarray(selection, dtype=np.int64)] = MESHLAB_SELECTED_FLAG
         data["flags"] = flags
-    mesh = meshio.Mesh(np.asarray(V, dtype=float), [("triangle", np.asarray(F, dtype=np.int32))], point_data=data)
+    F = np.asarray(F, dtype=np.int32).reshape(-1, 3)
+    cells = [("triangle", F)] if len(F) else []  # a point cloud has no faces
+    mesh = meshio.Mesh(np.asarray(V, dtype=float), cells, point_data=data)
     meshio.write(str(path), mesh, file_format="ply", binary=True)
