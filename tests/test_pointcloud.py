@@ -19,13 +19,13 @@ from heatcore.pointcloud_io import read_point_cloud
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
 from bench_pointcloud import potpourri_errors, scenario  # noqa: E402
 
-# Measured (docs/pointcloud.md): spot clean 1.52%, cheburashka clean 2.72%;
+# Measured (docs/pointcloud.md): spot clean 1.53%, cheburashka clean 2.74%;
 # potpourri3d on the same points 2.18% and 4.24%. The clean thresholds sit
-# ~0.3 points above ours and below potpourri3d; the test also compares with
+# ~0.3 points above ours and below potpourri3d; the tests also compare with
 # potpourri3d in the same run.
 CLEAN_THRESHOLDS = {"spot": 0.018, "cheburashka": 0.031}
 
-# Robustness on spot, measured: hole 0.83%, nonuniform 1.79%, noise 2.01%
+# Robustness on spot, measured: hole 0.84%, nonuniform 2.10%, noise 1.95%
 # (potpourri3d: 2.12%, 2.41%, 2.31%). Thresholds: the clean threshold (1.8%)
 # for the hole, which removes points but not resolution; +0.7 points for a
 # 5x density change (the sparse end has sqrt(5) times the spacing, and the
