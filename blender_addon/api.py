@@ -152,7 +152,7 @@ def compute_geodesic_distance(
     Raises
     ------
     AddonError
-        Not a mesh, no faces, no sources, or an output name taken by
+        Not a mesh, no vertices, no sources, or an output name taken by
         another kind of attribute. Nothing is modified.
     heatcore.HeatcoreError
         Invalid options or geometry (for example a source on a loose vertex).
@@ -173,10 +173,8 @@ def compute_geodesic_distance(
     if obj.mode == "EDIT":
         obj.update_from_editmode()
     V, F = adapters.mesh_arrays(mesh)
-    if F.shape[0] == 0:
-        raise AddonError(
-            f"mesh {mesh.name!r} has no faces: geodesic distance needs a surface (point clouds are not supported yet)"
-        )
+    if len(V) == 0:
+        raise AddonError(f"mesh {mesh.name!r} has no vertices")
     src = resolve_sources(obj, sources, vertex_group)
 
     mesh_options = {k: solver_options.pop(k, default) for k, default in MESH_OPTIONS.items()}
@@ -186,7 +184,10 @@ def compute_geodesic_distance(
         nonlocal solver_seconds
         progress(0.1, f"building the heat solver for {len(V):,} vertices")
         t0 = time.perf_counter()
-        domain = heatcore.TriangleMesh(V, F, **mesh_options)
+        if F.shape[0]:
+            domain = heatcore.TriangleMesh(V, F, **mesh_options)
+        else:  # vertices only: a point cloud
+            domain = heatcore.PointCloud(V, refine=mesh_options["refine"])
         solver = heatcore.HeatSolver(domain, **solver_options)
         solver_seconds = time.perf_counter() - t0
         return solver

@@ -20,6 +20,7 @@ from .errors import (
 )
 from .heat import HeatSolver
 from .operators import Operators
+from .pointcloud import PointCloud
 from .polygon import PolygonMesh
 from .tet import TetMesh
 from .triangle import TriangleMesh
@@ -32,6 +33,7 @@ __all__ = [
     "TriangleMesh",
     "PolygonMesh",
     "TetMesh",
+    "PointCloud",
     "tet_io",
     "Operators",
     "HeatcoreError",

@@ -366,15 +366,29 @@ def test_script_api_options_and_cache(addon):
         api(obj, sources=[0], boundary="periodic")
 
 
-def test_mesh_without_faces_is_refused(addon):
+def test_mesh_without_faces_is_a_point_cloud(addon):
+    radius = 1.0
+    sphere = ico_sphere(subdivisions=4, radius=radius)  # 2,562 vertices
+    V = coords(sphere.data)
     mesh = bpy.data.meshes.new("cloud")
-    mesh.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [], [])
+    mesh.from_pydata([tuple(p) for p in V], [], [])
     obj = bpy.data.objects.new("cloud", mesh)
     bpy.context.collection.objects.link(obj)
-    names = {a.name for a in mesh.attributes}
-    with pytest.raises(addon.AddonError, match="has no faces"):
+    pole = int(np.argmax(V[:, 2]))
+    result = addon.compute_geodesic_distance(obj, sources=[pole])
+    d = attribute(obj.data, "geodesic_distance")
+    expected = hc.HeatSolver(hc.PointCloud(V)).distance([pole])
+    np.testing.assert_allclose(d, expected, rtol=1e-6, atol=1e-6)
+    assert result.n_vertices == len(V)
+    assert mean_relative_error(d, great_circle(V, pole, radius)) < 0.02
+
+
+def test_empty_mesh_is_refused(addon):
+    mesh = bpy.data.meshes.new("empty")
+    obj = bpy.data.objects.new("empty", mesh)
+    bpy.context.collection.objects.link(obj)
+    with pytest.raises(addon.AddonError, match="no vertices"):
         addon.compute_geodesic_distance(obj, sources=[0])
-    assert {a.name for a in mesh.attributes} == names
 
 
 def test_extension_zip_installs_and_runs(tmp_path):
