@@ -58,7 +58,13 @@ def read_tet_mesh(path):
 
     Examples
     --------
-    >>> V, T = read_tet_mesh("part.msh")  # doctest: +SKIP
+    >>> import os, tempfile, numpy as np, scipy.spatial
+    >>> P = np.random.default_rng(0).random((30, 3))
+    >>> path = os.path.join(tempfile.mkdtemp(), "part.vtu")
+    >>> write_tet_distance(path, P, scipy.spatial.Delaunay(P).simplices, np.zeros(30))
+    >>> V, T = read_tet_mesh(path)
+    >>> V.shape, T.shape[1]
+    ((30, 3), 4)
     """
     import meshio
 
@@ -118,7 +124,11 @@ def write_tet_distance(path, V, T, distance, *, unreachable=np.nan):
 
     Examples
     --------
-    >>> write_tet_distance("out.vtu", V, T, solver.distance([0]))  # doctest: +SKIP
+    >>> import os, tempfile, numpy as np, scipy.spatial, heatcore as hc
+    >>> V = np.random.default_rng(0).random((40, 3))
+    >>> T = scipy.spatial.Delaunay(V).simplices
+    >>> d = hc.HeatSolver(hc.TetMesh(V, T)).distance([0])
+    >>> write_tet_distance(os.path.join(tempfile.mkdtemp(), "out.vtu"), V, T, d)
     """
     import meshio
 
