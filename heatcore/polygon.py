@@ -43,6 +43,7 @@ import warnings
 import numpy as np
 import scipy.sparse as sp
 
+from .domain import MeshDomain
 from .errors import HeatcoreWarning, InvalidMeshError, InvalidSourceError
 from .intrinsic import IntrinsicTriangulation, face_edge_lengths, mollify
 from .operators import Operators
@@ -251,7 +252,7 @@ def area_minimizer_weights(X):
     return np.where(np.isfinite(w).all(axis=1, keepdims=True), w, 1.0 / k)
 
 
-class PolygonMesh:
+class PolygonMesh(MeshDomain):
     """A polygon mesh as a heat-method domain (virtual refinement, Bunge et al. 2020).
 
     Parameters
@@ -322,16 +323,6 @@ class PolygonMesh:
     def n_polygons(self):
         """Number of polygons kept."""
         return self.offsets.size - 1
-
-    @property
-    def n_input_vertices(self):
-        """Number of vertices of the mesh as given."""
-        return self.vertices.shape[0]
-
-    @property
-    def output_vertices(self):
-        """Operator vertex of each input vertex (``-1`` where unreferenced)."""
-        return self.vertex_map
 
     def _build_operators(self, X, corners):
         offsets = self.offsets

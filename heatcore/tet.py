@@ -39,6 +39,7 @@ import warnings
 import numpy as np
 import scipy.sparse as sp
 
+from .domain import MeshDomain
 from .errors import HeatcoreWarning, InvalidMeshError, InvalidSourceError
 from .operators import Operators
 from .sources import SourcePins, barycentric_array, index_list
@@ -220,7 +221,7 @@ def _face_area_vectors(P):
     return 0.5 * np.cross(F[:, :, 1] - F[:, :, 0], F[:, :, 2] - F[:, :, 0])
 
 
-class TetMesh:
+class TetMesh(MeshDomain):
     """A tetrahedral mesh as a heat-method domain (distance inside a volume).
 
     Parameters
@@ -343,16 +344,6 @@ class TetMesh:
         self._positions = self.vertices[used]
         self._incidence = None
         self.operators = tet_operators(self._positions, self.vertex_map[oriented[kept]], boundary)
-
-    @property
-    def n_input_vertices(self):
-        """Number of vertices of the mesh as given."""
-        return self.vertices.shape[0]
-
-    @property
-    def output_vertices(self):
-        """Operator vertex of each input vertex (``-1`` where unreferenced)."""
-        return self.vertex_map
 
     def source_pins(self, vertices=None, *, tet_points=None, boundary_faces=None):
         """Turn a source specification into :class:`SourcePins` on the operator vertices.

@@ -16,6 +16,7 @@ Examples
 import numpy as np
 import scipy.sparse as sp
 
+from .domain import MeshDomain
 from .errors import InvalidMeshError, InvalidOptionError, InvalidSourceError
 from .intrinsic import (
     NEXT,
@@ -91,7 +92,7 @@ def triangle_operators(lengths, faces, n_vertices, boundary, mean_edge_length):
     return Operators(L, mass, G, areas, 2, boundary, faces, mean_edge_length)
 
 
-class TriangleMesh:
+class TriangleMesh(MeshDomain):
     """A triangle mesh as a heat-method domain.
 
     Parameters
@@ -174,16 +175,6 @@ class TriangleMesh:
         tri.lengths *= h
         self.intrinsic = tri
         return triangle_operators(tri.lengths, tri.faces, n, boundary, h)
-
-    @property
-    def n_input_vertices(self):
-        """Number of vertices of the mesh as given."""
-        return self.vertices.shape[0]
-
-    @property
-    def output_vertices(self):
-        """Operator vertex of each input vertex (``-1`` where unreferenced)."""
-        return self.vertex_map
 
     def source_pins(self, vertices=None, *, face_points=None, edges=None, faces=None):
         """Turn a source specification into :class:`SourcePins` on the operator vertices.

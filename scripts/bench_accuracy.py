@@ -31,6 +31,8 @@ from pathlib import Path
 
 import numpy as np
 
+from heatcore.reference import mean_relative_error
+
 REPO = Path(__file__).resolve().parents[1]
 MESH_DIR = Path(os.environ.get("HEATCORE_MESHES", REPO.parent / "shared" / "meshes"))
 MESHES = ["spot", "homer", "fandisk", "cheburashka", "rocker-arm", "nefertiti", "stanford-bunny"]
@@ -39,11 +41,6 @@ MESHES = ["spot", "homer", "fandisk", "cheburashka", "rocker-arm", "nefertiti", 
 def three_sources(F):
     rng = np.random.default_rng(0)
     return rng.choice(np.unique(F), 3, replace=False)
-
-
-def mean_relative_error(d, exact):
-    mask = np.isfinite(exact) & (exact > 0)
-    return float(np.mean(np.abs(d[mask] - exact[mask]) / exact[mask]))
 
 
 def _exact_worker(V, F, sources):

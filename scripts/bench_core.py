@@ -22,26 +22,9 @@ from pathlib import Path
 import numpy as np
 
 import heatcore as hc
+from heatcore.reference import exact_distance, mean_relative_error
 
 MESHES = ["spot", "homer", "fandisk", "cheburashka", "rocker-arm", "nefertiti", "stanford-bunny"]
-
-
-def exact_distance(V, F, source):
-    """Exact geodesic distance (gdist) on the referenced vertices; inf elsewhere."""
-    import gdist
-
-    used = np.unique(F)
-    vmap = np.full(len(V), -1)
-    vmap[used] = np.arange(used.size)
-    d = gdist.compute_gdist(V[used], vmap[F].astype(np.int32), np.array([vmap[source]], dtype=np.int32))
-    out = np.full(len(V), np.inf)
-    out[used] = d
-    return out
-
-
-def mean_relative_error(d, exact):
-    mask = np.isfinite(exact) & (exact > 0)
-    return float(np.mean(np.abs(d[mask] - exact[mask]) / exact[mask]))
 
 
 def _potpourri_errors(path, sources, exact, queue):

@@ -38,6 +38,8 @@ from pathlib import Path
 
 import numpy as np
 
+from heatcore.reference import mean_relative_error
+
 REPO = Path(__file__).resolve().parents[1]
 MESH_DIR = Path(os.environ.get("HEATCORE_MESHES", REPO.parent / "shared" / "meshes"))
 MESHES = ["spot", "homer", "fandisk", "cheburashka", "rocker-arm", "nefertiti", "stanford-bunny"]
@@ -91,11 +93,6 @@ def exact_distances(name, V, F, sources, cache_dir):
     cache.parent.mkdir(parents=True, exist_ok=True)
     np.save(cache, d)
     return d
-
-
-def mean_relative_error(d, exact):
-    mask = np.isfinite(exact) & (exact > 0)
-    return float(np.mean(np.abs(d[mask] - exact[mask]) / exact[mask]))
 
 
 def select_vertex(ms, v):

@@ -37,6 +37,7 @@ from pathlib import Path
 import numpy as np
 
 import heatcore as hc
+from heatcore.reference import exact_distance, mean_relative_error
 from heatcore.pointcloud import PointCloud
 
 REPO = Path(__file__).resolve().parents[1]
@@ -44,29 +45,6 @@ MESHES = ["spot", "homer", "fandisk", "cheburashka", "rocker-arm", "nefertiti", 
 SCENARIOS = ["clean", "hole", "nonuniform", "noise"]
 HOLE_FRACTION = 0.3
 NOISE = 0.1  # times the mean edge length
-
-
-def exact_distance(V, F, source):
-    """Exact geodesic distance (gdist) from one vertex; inf at unreferenced vertices."""
-    import gdist
-
-    used = np.unique(F)
-    vmap = np.full(len(V), -1)
-    vmap[used] = np.arange(used.size)
-    d = gdist.compute_gdist(
-        np.ascontiguousarray(V[used], dtype=np.float64),
-        np.ascontiguousarray(vmap[F], dtype=np.int32),
-        np.array([vmap[source]], dtype=np.int32),
-    )
-    out = np.full(len(V), np.inf)
-    out[used] = d
-    return out
-
-
-def mean_relative_error(d, exact):
-    """Mean of ``|d - exact| / exact`` over points with finite exact distance > 0."""
-    mask = np.isfinite(exact) & (exact > 0)
-    return float(np.mean(np.abs(d[mask] - exact[mask]) / exact[mask]))
 
 
 def scenario(V, F, kind, seed=0, n_sources=3):

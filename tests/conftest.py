@@ -7,13 +7,14 @@ fails with an undefined symbol), so it is imported first here when present.
 import os
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 try:  # noqa: SIM105 - import order matters, see the module docstring
     import bpy  # noqa: F401
 except ImportError:
     pass
+
+from heatcore.reference import exact_distance, mean_relative_error  # noqa: E402,F401 (used by tests)
 
 REPO = Path(__file__).resolve().parents[1]
 MESH_DIR = Path(os.environ.get("HEATCORE_MESHES", REPO.parent / "shared" / "meshes"))
@@ -33,29 +34,6 @@ def load_shared_mesh(name):
 
     mesh = read_mesh(shared_mesh_path(name))
     return mesh.vertices, mesh.faces
-
-
-def exact_distance(V, F, sources):
-    """Exact geodesic distance (MMP, gdist) on a manifold mesh; inf at unreferenced vertices."""
-    import gdist
-
-    used = np.unique(F)
-    vmap = np.full(len(V), -1)
-    vmap[used] = np.arange(used.size)
-    d = gdist.compute_gdist(
-        np.ascontiguousarray(V[used], dtype=np.float64),
-        np.ascontiguousarray(vmap[F], dtype=np.int32),
-        np.asarray(vmap[np.atleast_1d(sources)], dtype=np.int32),
-    )
-    out = np.full(len(V), np.inf)
-    out[used] = d
-    return out
-
-
-def mean_relative_error(d, exact):
-    """Mean of |d - exact| / exact over vertices with finite exact distance > 0."""
-    mask = np.isfinite(exact) & (exact > 0)
-    return float(np.mean(np.abs(d[mask] - exact[mask]) / exact[mask]))
 
 
 @pytest.fixture

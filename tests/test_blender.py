@@ -20,6 +20,7 @@ import pytest
 
 import heatcore as hc
 from heatcore.colormap import colorize
+from heatcore.reference import mean_relative_error
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -145,11 +146,6 @@ def reference(obj, sources, m=1.0, boundary="robin", robust=True):
 def great_circle(V, source, radius):
     cos = V @ V[source] / (np.linalg.norm(V, axis=1) * np.linalg.norm(V[source]))
     return radius * np.arccos(np.clip(cos, -1.0, 1.0))
-
-
-def mean_relative_error(d, exact):
-    mask = exact > 0
-    return float(np.mean(np.abs(d[mask] - exact[mask]) / exact[mask]))
 
 
 def srgb_to_linear(c):
