@@ -136,7 +136,13 @@ class HeatSolver:
         start = time.perf_counter()
         self._backend = backend
         self._laplacian = ops.laplacian.tocsr()
-        self._poisson = factor(_grounded(self._laplacian, ground), backend)
+        # The Poisson factorization depends on the domain only (not on m or the
+        # boundary condition): it is kept on the domain for every solver built
+        # on it, so it is made for fast solves; the heat ones for fast factoring.
+        cache = domain.__dict__.setdefault("_heatcore_factors", {})
+        if backend not in cache:
+            cache[backend] = factor(_grounded(self._laplacian, ground), backend, prefer="solve")
+        self._poisson = cache[backend]
         self.timings["poisson factorization"] = time.perf_counter() - start
         log.info(
             "heat solver ready: %d operator vertices, %d components, t=%.3g, boundary=%s (%.2f s)",
@@ -167,25 +173,19 @@ class HeatSolver:
             (another connected component, or a vertex used by no element).
         """
         pins = self.domain.source_pins(vertices, **sources)
-        phi = self.distance_from_pins(pins)
-        vmap = self.domain.output_vertices
-        out = np.full(vmap.shape[0], np.inf)
-        used = vmap >= 0
-        out[used] = phi[vmap[used]]
-        return out
+        phi = np.append(self.distance_from_pins(pins), np.inf)
+        return phi[self.domain.output_vertices]  # index -1 (unreferenced) reads the appended inf
 
     def distance_from_pins(self, pins):
         """Distance at every operator vertex for prepared :class:`~heatcore.sources.SourcePins`."""
         u = self.heat(pins.heat)
         b = self._divergence @ self.unit_field(u).ravel()  # = -div X
-        if self.n_components == 1:
-            reached = np.ones(self.ops.n_vertices, dtype=bool)
-        else:
-            reached = np.isin(self.component, self.component[pins.vertices])
+        reached = None if self.n_components == 1 else np.isin(self.component, self.component[pins.vertices])
         phi = self._pinned_poisson(b, pins, reached)
         phi[pins.vertices] = pins.values
-        phi = np.maximum(phi, 0.0)
-        phi[~reached] = np.inf
+        np.maximum(phi, 0.0, out=phi)
+        if reached is not None:
+            phi[~reached] = np.inf
         if self.accuracy == "high":
             from .eikonal import refine_distance
 
@@ -212,19 +212,26 @@ class HeatSolver:
     def unit_field(self, u):
         """``-grad u / |grad u|`` per element, 0 where the gradient vanishes or is not finite."""
         g = (self.ops.gradient @ u).reshape(-1, self.ops.dim)
-        # Far from the sources u (and so g) can be 1e-200: squaring it would
-        # underflow, so normalize by the largest component first.
-        big = np.abs(g).max(axis=1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            g = g / big[:, None]
-            norm = np.sqrt(np.einsum("ij,ij->i", g, g))
-            scale = np.where(np.isfinite(norm) & (big > 0), -1.0 / norm, 0.0)
-        return np.where(np.isfinite(g), g, 0.0) * scale[:, None]
+        norm = np.sqrt(np.einsum("ij,ij->i", g, g))
+        # Far from the sources u (and so g) can be 1e-200, whose square
+        # underflows: recompute those norms with hypot, which does not.
+        tiny = norm < 1e-140
+        if tiny.any():
+            gt = g[tiny]
+            redo = np.hypot(gt[:, 0], gt[:, 1])
+            for k in range(2, g.shape[1]):
+                redo = np.hypot(redo, gt[:, k])
+            norm[tiny] = redo
+        finite = np.isfinite(norm)
+        with np.errstate(divide="ignore"):
+            scale = np.where(finite & (norm > 0), -1.0 / norm, 0.0)
+        if not finite.all():
+            g = np.where(np.isfinite(g), g, 0.0)
+        return g * scale[:, None]
 
     def _solve_grounded(self, rhs):
         """Solve ``L x = rhs`` per component with ``x = 0`` at each component's ground vertex."""
-        rhs = np.array(rhs, dtype=float)
-        rhs[self._ground] = 0.0
+        rhs[self._ground] = 0.0  # callers pass arrays of their own
         return self._poisson.solve(rhs)
 
     def _pinned_poisson(self, b, pins, reached):
@@ -232,7 +239,8 @@ class HeatSolver:
         P, d = pins.vertices, pins.values
         comp_of_pin = self.component[P]
         if P.size > MAX_PRECOMPUTED_PINS:
-            return self._factor_pinned(b, P, d, reached)
+            everywhere = np.ones(self.ops.n_vertices, dtype=bool)
+            return self._factor_pinned(b, P, d, everywhere if reached is None else reached)
         psi = self._solve_grounded(b)
         comps, local = np.unique(comp_of_pin, return_inverse=True)
         if comps.size == P.size:  # one pin per component: a shift suffices

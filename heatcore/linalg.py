@@ -1,13 +1,17 @@
 """Sparse symmetric positive definite factorizations behind one interface.
 
-``factor(A).solve(b)`` picks the fastest installed backend for the size:
+``factor(A).solve(b)`` picks the fastest installed backend for the job:
 
 - ``qdldl`` (simplicial LDL^T with AMD ordering): the fastest factorization
   for small and medium meshes (measured on nefertiti, 50k vertices: 0.14 s
-  against 0.30 s for CHOLMOD, with solves of 3.5 ms against 3.0 ms);
-- ``cholmod`` (supernodal Cholesky through ``cholespy``): the fastest for
-  large meshes, above ``QDLDL_MAX_SIZE`` unknowns;
+  against 0.30 s for CHOLMOD), with slower solves (3.9 ms against 2.7 ms);
+- ``cholmod`` (supernodal Cholesky through ``cholespy``): the fastest solves,
+  and the fastest factorization above ``QDLDL_MAX_SIZE`` unknowns;
 - ``superlu`` (SciPy, always present): the fallback.
+
+``prefer="factor"`` (a matrix that is rebuilt often) picks qdldl up to
+``QDLDL_MAX_SIZE``; ``prefer="solve"`` (a matrix kept for many solves) picks
+CHOLMOD.
 
 Factor once, solve many times: solves accept one right-hand side ``(n,)`` or
 several ``(n, k)``.
@@ -44,12 +48,13 @@ def available_backends():
     return (["qdldl"] if qdldl is not None else []) + (["cholmod"] if cholespy is not None else []) + ["superlu"]
 
 
-def choose_backend(n):
-    """The backend "auto" uses for an ``n`` x ``n`` matrix."""
+def choose_backend(n, prefer="factor"):
+    """The backend "auto" uses for an ``n`` x ``n`` matrix (see the module docstring)."""
     backends = available_backends()
-    if "qdldl" in backends and (n <= QDLDL_MAX_SIZE or "cholmod" not in backends):
+    fast_factor = "qdldl" in backends and (n <= QDLDL_MAX_SIZE or "cholmod" not in backends)
+    if prefer == "factor" and fast_factor:
         return "qdldl"
-    return backends[0] if backends[0] != "qdldl" else backends[1]
+    return "cholmod" if "cholmod" in backends else backends[0]
 
 
 class _CholmodFactor:
@@ -107,20 +112,23 @@ class _SuperLUFactor:
         return self._lu.solve(np.asarray(b, dtype=np.float64))
 
 
-def factor(A, backend="auto"):
+def factor(A, backend="auto", prefer="factor"):
     """Factor a sparse symmetric positive definite matrix once.
 
     Parameters
     ----------
     A : (n, n) sparse matrix
     backend : {"auto", "qdldl", "cholmod", "superlu"}
+    prefer : {"factor", "solve"}
+        What "auto" optimizes: the factorization (a matrix rebuilt often) or
+        the solves (a matrix kept for many solves).
 
     Returns
     -------
     object with ``solve(b)`` for ``b`` of shape ``(n,)`` or ``(n, k)``.
     """
     if backend == "auto":
-        backend = choose_backend(A.shape[0])
+        backend = choose_backend(A.shape[0], prefer)
     if backend == "qdldl":
         if qdldl is None:
             raise SolverError("backend 'qdldl' needs the qdldl package")
