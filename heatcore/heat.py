@@ -212,22 +212,20 @@ class HeatSolver:
     def unit_field(self, u):
         """``-grad u / |grad u|`` per element, 0 where the gradient vanishes or is not finite."""
         g = (self.ops.gradient @ u).reshape(-1, self.ops.dim)
-        norm = np.sqrt(np.einsum("ij,ij->i", g, g))
+        norm2 = np.einsum("ij,ij->i", g, g)
+        if not np.isfinite(norm2.sum()):  # rare: a non-finite gradient gets no direction
+            g = np.where(np.isfinite(g), g, 0.0)
+            norm2 = np.einsum("ij,ij->i", g, g)
+        norm = np.sqrt(norm2)
         # Far from the sources u (and so g) can be 1e-200, whose square
         # underflows: recompute those norms with hypot, which does not.
-        tiny = norm < 1e-140
-        if tiny.any():
-            gt = g[tiny]
-            redo = np.hypot(gt[:, 0], gt[:, 1])
+        tiny = np.flatnonzero(norm2 < 1e-280)
+        if tiny.size:
+            redo = np.hypot(g[tiny, 0], g[tiny, 1])
             for k in range(2, g.shape[1]):
-                redo = np.hypot(redo, gt[:, k])
-            norm[tiny] = redo
-        finite = np.isfinite(norm)
-        with np.errstate(divide="ignore"):
-            scale = np.where(finite & (norm > 0), -1.0 / norm, 0.0)
-        if not finite.all():
-            g = np.where(np.isfinite(g), g, 0.0)
-        return g * scale[:, None]
+                redo = np.hypot(redo, g[tiny, k])
+            norm[tiny] = np.where(redo > 0, redo, np.inf)  # a zero gradient gets X = 0
+        return g * (-1.0 / norm)[:, None]
 
     def _solve_grounded(self, rhs):
         """Solve ``L x = rhs`` per component with ``x = 0`` at each component's ground vertex."""
