@@ -362,6 +362,20 @@ def test_script_api_options_and_cache(addon):
         api(obj, sources=[0], boundary="periodic")
 
 
+def test_operator_accuracy_high_matches_heatcore(addon):
+    obj = ico_sphere(subdivisions=4, radius=1.0)
+    V = coords(obj.data)
+    pole = int(np.argmax(V[:, 2]))
+    select_only(obj, [pole])
+    assert run(obj, accuracy="high") == {"FINISHED"}
+    d = attribute(obj.data, "geodesic_distance")
+    expected = hc.HeatSolver(hc.TriangleMesh(V, loop_triangles(obj.data)), accuracy="high").distance([pole])
+    np.testing.assert_allclose(d, expected, rtol=1e-6, atol=1e-6)
+    smooth = reference(obj, [pole])
+    exact = great_circle(V, pole, 1.0)
+    assert mean_relative_error(d, exact) < mean_relative_error(smooth, exact)
+
+
 def test_mesh_without_faces_is_a_point_cloud(addon):
     radius = 1.0
     sphere = ico_sphere(subdivisions=4, radius=radius)  # 2,562 vertices

@@ -111,6 +111,18 @@ def test_options_are_forwarded(tmp_path, capsys):
     assert np.abs(expected - default).max() > 1e-3  # the options changed the result
 
 
+def test_accuracy_high_is_forwarded(tmp_path, capsys):
+    V, F = grid()
+    path = write_obj(tmp_path / "grid.obj", V, F)
+    out = tmp_path / "d.npy"
+    code, _, err = run(["distance", path, "-s", 40, "-o", out, "-q", "--accuracy", "high"], capsys)
+    assert code == 0, err
+    expected = hc.geodesic_distance(V, F, [40], accuracy="high")
+    np.testing.assert_array_equal(np.load(out), expected)
+    euclid = np.linalg.norm(V - V[40], axis=1)
+    assert np.allclose(expected, euclid, rtol=1e-5)  # exact on a plane
+
+
 def test_sources_file_and_union(sphere_obj, tmp_path, capsys):
     path, V, F = sphere_obj
     src = tmp_path / "sources.txt"
