@@ -15,27 +15,13 @@ Examples
 """
 
 import argparse
-import importlib.util
 import statistics
-import sys
 import time
 from pathlib import Path
 
 import bpy
 import numpy as np
-
-REPO = Path(__file__).resolve().parents[1]
-
-
-def load_addon():
-    spec = importlib.util.spec_from_file_location(
-        "blender_addon", REPO / "blender_addon" / "__init__.py", submodule_search_locations=[str(REPO / "blender_addon")]
-    )
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["blender_addon"] = module
-    spec.loader.exec_module(module)
-    module.register()
-    return module
+from blender_addon_loader import load_addon
 
 
 def make_mesh(path=None, levels=4):

@@ -14,26 +14,14 @@ Examples
 """
 
 import argparse
-import importlib.util
 import math
-import sys
 from pathlib import Path
 
 import bpy
 import numpy as np
+from blender_addon_loader import load_addon
 
 REPO = Path(__file__).resolve().parents[1]
-
-
-def load_addon():
-    spec = importlib.util.spec_from_file_location(
-        "blender_addon", REPO / "blender_addon" / "__init__.py", submodule_search_locations=[str(REPO / "blender_addon")]
-    )
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["blender_addon"] = module
-    spec.loader.exec_module(module)
-    module.register()
-    return module
 
 
 def scene_with_spot(mesh_path, levels):
