@@ -465,6 +465,70 @@ def run_meshlab(args):
     return 0
 
 
+# --------------------------------------------------------------------------- batch
+
+
+def _batch_arguments(p):
+    p.add_argument("inputs", nargs="+", metavar="INPUT",
+                   help="folders (their mesh files), glob patterns (quote them) or mesh files")
+    p.add_argument("-o", "--output-dir", type=Path, required=True, metavar="DIR",
+                   help="folder for one NAME.npz per mesh and summary.csv (created if missing); "
+                        "meshes whose NAME.npz exists are skipped, so a rerun resumes")
+    src = p.add_argument_group("sources (give one)")
+    src.add_argument("--sources", metavar="SPEC",
+                     help="'0,17' (vertex indices: one row per source), 'all' (the full distance "
+                          "matrix, in blocks) or 'farthest:K' (K farthest-point samples by heat distance, "
+                          "starting at vertex 0)")
+    src.add_argument("--sources-file-suffix", metavar="SUFFIX",
+                     help="per-mesh sources files: with '.sources.txt', bunny.obj reads bunny.sources.txt "
+                          "next to it (indices separated by whitespace or commas, '#' comments)")
+    src.add_argument("--union", action="store_true",
+                     help="one row per mesh: the distance to the union of the sources")
+    run = p.add_argument_group("execution")
+    run.add_argument("--scheduler", metavar="ADDRESS",
+                     help="run on this dask.distributed scheduler (e.g. tcp://10.0.0.5:8786), one task per "
+                          "mesh; the files must be on a file system the workers share (needs heatcore[batch])")
+    run.add_argument("-j", "--workers", type=_non_negative_int, default=None, metavar="N",
+                     help="local processes (default: all cores; 0: in this process)")
+    run.add_argument("--max-memory", type=_positive_float, default=1024.0, metavar="MB",
+                     help="distance rows a task holds at once, in MB; larger results are written as "
+                          "per-block .npy files in NAME.blocks/ (default: %(default)s)")
+    p.add_argument("--domain", choices=("auto", "triangle", "polygon", "tet", "points"), default="auto",
+                   help="how to read the files (see 'heatcore distance --help') (default: %(default)s)")
+    add_solver_options(p)
+    add_common_options(p)
+
+
+@command(
+    "batch",
+    arguments=_batch_arguments,
+    help="distances for many mesh files (local processes or a Dask cluster): .npz per mesh + summary.csv",
+    description="Geodesic distance for every mesh file of folders or glob patterns: each mesh is read and "
+    "factored once, then all its sources are solved against it. Results: OUTPUT_DIR/NAME.npz "
+    "(sources, distances one row per source; large results as per-block .npy files under the "
+    "--max-memory bound) and summary.csv (file, vertices, sources, seconds, status, error). A bad mesh "
+    "is reported with status 'error' and the batch goes on; existing outputs are skipped (resume). "
+    "Runs on a local process pool, or on a dask.distributed cluster with --scheduler.",
+)
+def run_batch_command(args):
+    from .batch import SUMMARY_NAME, parse_sources, run_batch
+
+    spec = parse_sources(args.sources, suffix=args.sources_file_suffix, union=args.union)
+    kw = {"mesh": {}, "solver": {}}
+    for _, target, kwargs in SOLVER_OPTIONS:
+        kw[target][kwargs["dest"]] = getattr(args, kwargs["dest"])
+    rows = run_batch(args.inputs, args.output_dir, spec, scheduler=args.scheduler, workers=args.workers,
+                     max_memory_mb=args.max_memory, kind=args.domain, mesh_options=kw["mesh"],
+                     solver_options=kw["solver"], progress=not args.quiet)
+    counts = {status: sum(r["status"] == status for r in rows) for status in ("ok", "skipped", "error")}
+    for r in rows:
+        if r["status"] == "error":
+            log.warning("%s: %s", r["file"], r["error"])
+    print(f"wrote {args.output_dir / SUMMARY_NAME}: {counts['ok']} done, {counts['skipped']} skipped "
+          f"(already done), {counts['error']} failed")
+    return 0 if counts["error"] == 0 else 1
+
+
 # --------------------------------------------------------------------------- main
 
 
