@@ -58,8 +58,11 @@ def face_areas(lengths):
     -------
     (m,) float array; 0 where the lengths violate the triangle inequality.
     """
-    s = np.sort(lengths, axis=1)[:, ::-1]
-    a, b, c = s[:, 0], s[:, 1], s[:, 2]
+    x, y, z = lengths[:, 0], lengths[:, 1], lengths[:, 2]
+    lo_xy, hi_xy = np.minimum(x, y), np.maximum(x, y)
+    a = np.maximum(hi_xy, z)  # sorted without arithmetic: a >= b >= c
+    c = np.minimum(lo_xy, z)
+    b = np.maximum(lo_xy, np.minimum(hi_xy, z))
     q = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c))
     return 0.25 * np.sqrt(np.maximum(q, 0.0))
 
