@@ -43,6 +43,7 @@ __all__ = [
     "InvalidSourceError",
     "SolverError",
     "io",
+    "linalg",
 ]
 
 

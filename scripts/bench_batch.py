@@ -157,7 +157,7 @@ def main():
         f"Python {platform.python_version()}, numpy {np.__version__}, dask.distributed {distributed.__version__}, "
         f"heatcore {heatcore.__version__})",
         "",
-        f"Reproduce: `python scripts/bench_batch.py` (writes this page).",
+        "Reproduce: `python scripts/bench_batch.py` (writes this page).",
         "",
         f"### Meshes per minute: {len(meshes)} shared triangle meshes ({', '.join(TRIANGLE_MESHES)}; "
         f"{total_vertices:,} vertices in all), one source each",

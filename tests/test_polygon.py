@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import scipy.sparse as sp
-from conftest import exact_distance, mean_relative_error, shared_mesh_path
+from conftest import mean_relative_error, shared_mesh_path
 
 import heatcore as hc
 from heatcore.polygon import PolygonMesh, area_minimizer_weights, fan_triangulate, polygon_arrays

@@ -7,8 +7,6 @@ body-centred cubic (BCC) points tetrahedralized by ``scipy.spatial.Delaunay``
 ``scripts/bench_tet.py`` imports these builders.
 """
 
-import warnings
-
 import numpy as np
 import pytest
 import scipy.sparse as sp
