@@ -442,9 +442,3 @@ class PolygonMesh(MeshDomain):
         ones = np.ones(idx.size)
         return SourcePins.combine(self.operators.n_vertices, idx, np.zeros(idx.size), idx, ones)
 
-    def _referenced(self, v):
-        mapped = self.vertex_map[v]
-        if (mapped < 0).any():
-            bad = int(v[mapped < 0][0])
-            raise InvalidSourceError(f"vertex {bad} is not used by any polygon, so it cannot be a source")
-        return mapped

@@ -437,13 +437,6 @@ class TetMesh(MeshDomain):
         dist = np.linalg.norm(self._positions[around] - self._positions[src][:, None, :], axis=2)
         return around.ravel(), dist.ravel()
 
-    def _referenced(self, v):
-        mapped = self.vertex_map[v]
-        if (mapped < 0).any():
-            bad = int(v[mapped < 0][0])
-            raise InvalidSourceError(f"vertex {bad} is not used by any tet with a volume, so it cannot be a source")
-        return mapped
-
     def _check_boundary_faces(self, f):
         missing = ~_rows_in(np.sort(f, axis=1), np.sort(self.boundary_faces, axis=1))
         if missing.any():

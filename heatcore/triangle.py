@@ -208,13 +208,13 @@ class TriangleMesh(MeshDomain):
 
         if vertices is not None:
             v = index_list(vertices, self.n_input_vertices, "vertex")
-            pin(self._referenced(v, "vertex"), np.zeros(v.size), np.ones(v.size))
+            pin(self._referenced(v), np.zeros(v.size), np.ones(v.size))
         if edges is not None:
             e = np.asarray(edges)
             if e.size and (e.ndim != 2 or e.shape[1] != 2):
                 raise InvalidSourceError(f"edges must have shape (k, 2), got {e.shape}")
             e = index_list(e.reshape(-1), self.n_input_vertices, "vertex").reshape(-1, 2)
-            ce = np.sort(self._referenced(e.ravel(), "vertex").reshape(-1, 2), axis=1)
+            ce = np.sort(self._referenced(e.ravel()).reshape(-1, 2), axis=1)
             edge_id = self._edge_ids(ce, e)
             inner = np.flatnonzero(np.isin(sub.vertex_edge, edge_id))
             ends = np.unique(ce)
@@ -273,13 +273,6 @@ class TriangleMesh(MeshDomain):
             weights = list(1.0 - frac)
         idx = [inside[np.flatnonzero((lattice == corner).all(axis=1))[0]] for corner in cell]
         return np.asarray(idx), np.clip(np.asarray(weights, dtype=float), 0.0, None)
-
-    def _referenced(self, v, what):
-        mapped = self.vertex_map[v]
-        if (mapped < 0).any():
-            bad = int(v[mapped < 0][0])
-            raise InvalidSourceError(f"{what} {bad} is not used by any face, so it cannot be a source")
-        return mapped
 
     def _edge_ids(self, compact_pairs, user_pairs):
         edges = self.subdivision.edges
