@@ -28,7 +28,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components, shortest_path
 
 from .errors import InvalidOptionError
-from .linalg import factor
+from .linalg import choose_backend, factor, fill_reducing_ordering, restrict_ordering
 
 log = logging.getLogger("heatcore")
 
@@ -121,28 +121,34 @@ class HeatSolver:
         self._ground = ground
         self._divergence = (ops.gradient.T @ sp.diags(np.repeat(ops.volumes, ops.dim))).tocsr()
 
+        self._backend = backend
+        self._laplacian = ops.laplacian.tocsr()
+        # Factorizations and orderings that depend on the domain only (not on m or
+        # the boundary condition) are kept on the domain for every solver built on it.
+        self._domain_cache = domain.__dict__.setdefault("_heatcore_factors", {})
+        heat_backend = self._resolve(backend, "factor")
         heat_matrix = (sp.diags(ops.mass) + self.t * ops.laplacian).tocsr()
         self._heat_neumann = self._heat_dirichlet = None
         if self.boundary in ("robin", "neumann"):
-            self._heat_neumann = factor(heat_matrix, backend)
+            self._heat_neumann = factor(heat_matrix, heat_backend, ordering=self._ordering(heat_backend))
         if self.boundary in ("robin", "dirichlet"):
             self._interior = np.flatnonzero(~ops.boundary)
             if self._interior.size:
-                self._heat_dirichlet = factor(heat_matrix[self._interior][:, self._interior], backend)
+                ordering = restrict_ordering(self._ordering(heat_backend), self._interior)
+                interior_matrix = heat_matrix[self._interior][:, self._interior]
+                self._heat_dirichlet = factor(interior_matrix, heat_backend, ordering=ordering)
             if self._heat_neumann is None:  # fallback where Dirichlet sees no heat
-                self._heat_neumann = factor(heat_matrix, backend)
+                self._heat_neumann = factor(heat_matrix, heat_backend, ordering=self._ordering(heat_backend))
         self.timings["heat factorization"] = time.perf_counter() - start
 
         start = time.perf_counter()
-        self._backend = backend
-        self._laplacian = ops.laplacian.tocsr()
-        # The Poisson factorization depends on the domain only (not on m or the
-        # boundary condition): it is kept on the domain for every solver built
-        # on it, so it is made for fast solves; the heat ones for fast factoring.
-        cache = domain.__dict__.setdefault("_heatcore_factors", {})
-        if backend not in cache:
-            cache[backend] = factor(_grounded(self._laplacian, ground), backend, prefer="solve")
-        self._poisson = cache[backend]
+        # The Poisson factorization is kept for every query, so it is made for fast solves.
+        if ("poisson", backend) not in self._domain_cache:
+            poisson_backend = self._resolve(backend, "solve")
+            grounded = _grounded(self._laplacian, ground)
+            poisson = factor(grounded, poisson_backend, ordering=self._ordering(poisson_backend))
+            self._domain_cache["poisson", backend] = poisson
+        self._poisson = self._domain_cache["poisson", backend]
         self.timings["poisson factorization"] = time.perf_counter() - start
         log.info(
             "heat solver ready: %d operator vertices, %d components, t=%.3g, boundary=%s (%.2f s)",
@@ -227,6 +233,16 @@ class HeatSolver:
             norm[tiny] = np.where(redo > 0, redo, np.inf)  # a zero gradient gets X = 0
         return g * (-1.0 / norm)[:, None]
 
+    def _resolve(self, backend, prefer):
+        """The backend that ``backend`` stands for on this domain's matrices."""
+        return choose_backend(self.ops.n_vertices, prefer) if backend == "auto" else backend
+
+    def _ordering(self, backend):
+        """The fill-reducing ordering ``backend`` uses on this domain's matrices (cached on the domain)."""
+        if ("ordering", backend) not in self._domain_cache:
+            self._domain_cache["ordering", backend] = fill_reducing_ordering(self._laplacian, backend)
+        return self._domain_cache["ordering", backend]
+
     def _solve_grounded(self, rhs):
         """Solve ``L x = rhs`` per component with ``x = 0`` at each component's ground vertex."""
         rhs[self._ground] = 0.0  # callers pass arrays of their own
@@ -270,7 +286,9 @@ class HeatSolver:
         if idx.size:
             L = self._laplacian
             rhs = b[idx] - L[idx][:, P] @ d
-            phi[idx] = factor(L[idx][:, idx], self._backend).solve(rhs)
+            backend = self._resolve(self._backend, "factor")
+            ordering = restrict_ordering(self._ordering(backend), idx)
+            phi[idx] = factor(L[idx][:, idx], backend, ordering=ordering).solve(rhs)
         return phi
 
 

@@ -1,0 +1,72 @@
+"""Sparse factorization backends: agreement, shared orderings, failures, the automatic choice."""
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from shapes import grid
+
+import heatcore as hc
+from heatcore import linalg
+
+
+def heat_matrix(rows=30, cols=30):
+    """``M + L`` of a grid: the kind of matrix the heat method factors."""
+    V, F = grid(rows, cols)
+    ops = hc.TriangleMesh(V, F, refine=0, robust=False).operators
+    return (sp.diags(ops.mass) + ops.laplacian).tocsc()
+
+
+@pytest.mark.parametrize("backend", linalg.available_backends())
+def test_every_backend_solves_one_and_several_right_hand_sides(backend):
+    A = heat_matrix()
+    rng = np.random.default_rng(0)
+    b = rng.standard_normal((A.shape[0], 3))
+    f = linalg.factor(A, backend)
+    assert np.abs(A @ f.solve(b) - b).max() < 1e-10
+    x = f.solve(b[:, 1])
+    assert x.shape == (A.shape[0],) and np.abs(A @ x - b[:, 1]).max() < 1e-10
+
+
+def test_supernodal_shares_one_ordering_with_a_principal_submatrix():
+    A = heat_matrix()
+    ordering = linalg.fill_reducing_ordering(A, "supernodal")
+    assert np.array_equal(np.sort(ordering), np.arange(A.shape[0]))
+    rows = np.flatnonzero(np.arange(A.shape[0]) % 7 != 3)
+    sub = A[rows][:, rows]
+    restricted = linalg.restrict_ordering(ordering, rows)
+    assert np.array_equal(np.sort(restricted), np.arange(rows.size))
+    # the restriction keeps the relative order of the kept unknowns
+    kept_in_order = ordering[np.isin(ordering, rows)]
+    assert np.array_equal(rows[restricted], kept_in_order)
+    b = np.linspace(-1.0, 1.0, rows.size)
+    x = linalg.factor(sub, "supernodal", ordering=restricted).solve(b)
+    assert np.abs(sub @ x - b).max() < 1e-12
+
+
+@pytest.mark.parametrize("backend", ["supernodal", "cholmod"])
+def test_cholesky_of_a_negative_definite_matrix_raises_solver_error(backend):
+    A = heat_matrix(6, 6)
+    with pytest.raises(hc.SolverError):
+        linalg.factor(-A, backend)
+
+
+def test_auto_choice_by_size():
+    assert linalg.choose_backend(1000, "factor") == "qdldl"
+    assert linalg.choose_backend(1000, "solve") == "cholmod"
+    big = linalg.SUPERNODAL_MIN_SIZE
+    assert linalg.choose_backend(big, "factor") == linalg.choose_backend(big, "solve") == "supernodal"
+    with pytest.raises(hc.SolverError):
+        linalg.factor(heat_matrix(4, 4), "nope")
+
+
+def test_many_pins_use_the_shared_ordering():
+    """More pins than the dense Schur path takes: the pinned Laplacian gets its own factorization."""
+    V, F = grid(41, 41)
+    mesh = hc.TriangleMesh(V, F, refine=0)
+    band = np.flatnonzero(V[:, 0] < 0.2)  # 8 columns of 41 vertices: a band as the source
+    assert band.size > hc.heat.MAX_PRECOMPUTED_PINS
+    reference = hc.HeatSolver(mesh, backend="superlu").distance(band)
+    d = hc.HeatSolver(mesh, backend="supernodal").distance(band)
+    assert np.allclose(d, reference, rtol=1e-8, atol=1e-12)
+    exact = np.maximum(V[:, 0] - V[band, 0].max(), 0.0)
+    assert np.abs(d - exact).max() < 0.02
