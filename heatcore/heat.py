@@ -297,11 +297,20 @@ def _grounded(L, ground):
 
     Solving with it gives ``x = 0`` at the ground vertices and ``L x = b``
     elsewhere; it is positive definite when each component has one ground.
+    The sparsity pattern of ``L`` is kept (explicit zeros), so that it shares
+    ``L``'s fill-reducing ordering and converted pattern.
     """
-    keep = np.ones(L.shape[0])
-    keep[ground] = 0.0
-    K = sp.diags(keep) @ L @ sp.diags(keep)
-    return (K + sp.diags(1.0 - keep)).tocsc()
+    K = sp.csr_matrix(L, copy=True)
+    K.sum_duplicates()
+    is_ground = np.zeros(K.shape[0], dtype=bool)
+    is_ground[ground] = True
+    rows = np.repeat(np.arange(K.shape[0]), np.diff(K.indptr))
+    K.data[is_ground[rows] | is_ground[K.indices]] = 0.0
+    on_ground_diagonal = (rows == K.indices) & is_ground[rows]
+    if on_ground_diagonal.sum() == ground.size:
+        K.data[on_ground_diagonal] = 1.0
+        return K
+    return (K + sp.diags(is_ground.astype(float))).tocsr()  # a ground without a diagonal entry
 
 
 def _vertex_graph(elements, n):

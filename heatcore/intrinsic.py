@@ -27,6 +27,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .refine import unique_edges
+
 NEXT = np.array([1, 2, 0])
 PREV = np.array([2, 0, 1])
 
@@ -159,21 +161,24 @@ class IntrinsicTriangulation:
         """
         total = 0
         tol = 1e-12
+        candidates = np.flatnonzero(self.twin > np.arange(self.twin.size))
         for _ in range(max_rounds):
-            areas = face_areas(self.lengths)
-            cot = corner_cotangents(self.lengths, areas).ravel()
-            h = np.flatnonzero(self.twin > np.arange(self.twin.size))
-            t = self.twin[h]
-            cot_sum = cot[h] + cot[t]
-            bad = cot_sum < -tol
+            h, t = candidates, self.twin[candidates]
+            cot_sum = _corner_cotangent(self.lengths, h) + _corner_cotangent(self.lengths, t)
             f0, f1 = h // 3, t // 3
-            bad &= f0 != f1
+            bad = (cot_sum < -tol) & (f0 != f1)
             if not bad.any():
                 break
             h, t, f0, f1, score = h[bad], t[bad], f0[bad], f1[bad], cot_sum[bad]
             chosen = _independent_edges(f0, f1, score, self.faces.shape[0])
             self._flip(h[chosen], t[chosen])
             total += int(chosen.sum())
+            # Only edges of the flipped faces, and bad edges left for later, can be non-Delaunay now.
+            touched = np.concatenate([f0[chosen], f1[chosen]])
+            sides = np.concatenate([(3 * touched[:, None] + np.arange(3)).ravel(), h[~chosen]])
+            twins = self.twin[sides]
+            inner = twins >= 0
+            candidates = np.unique(np.minimum(sides[inner], twins[inner]))
         return total
 
     def _flip(self, h0, h1):
@@ -200,14 +205,17 @@ class IntrinsicTriangulation:
         new_il, new_ki = 3 * f1 + 0, 3 * f1 + 2
         diag0, diag1 = 3 * f0 + 1, 3 * f1 + 1
 
-        remap = np.arange(twin.size)
         old = np.concatenate([old_jk, old_ki, old_il, old_lj])
         new = np.concatenate([new_jk, new_ki, new_il, new_lj])
-        remap[old] = new
-        moved_twins = twin[old]
-        twin[new] = moved_twins
-        inside = twin >= 0
-        twin[inside] = remap[twin[inside]]
+        # The outer edges' twins, renamed where a twin is itself an outer edge that moves.
+        outside = twin[old]
+        order = np.argsort(old)
+        at = np.minimum(np.searchsorted(old[order], outside), old.size - 1)
+        moves = old[order][at] == outside
+        outside[moves] = new[order][at[moves]]
+        twin[new] = outside
+        linked = outside >= 0
+        twin[outside[linked]] = new[linked]
         twin[diag0] = diag1
         twin[diag1] = diag0
 
@@ -234,19 +242,20 @@ def halfedge_twins(F, side_edge=None):
     tail = F[:, NEXT].ravel()
     head = F[:, PREV].ravel()
     if side_edge is None:
-        n = int(F.max()) + 1 if F.size else 0
-        key = np.minimum(tail, head) * n + np.maximum(tail, head)
-    else:
-        key = side_edge.ravel()
-    order = np.argsort(key, kind="stable")
-    sk = key[order]
-    starts = np.flatnonzero(np.r_[True, sk[1:] != sk[:-1]])
-    counts = np.diff(np.r_[starts, sk.size])
-    pair = starts[counts == 2]
-    a, b = order[pair], order[pair + 1]
+        side_edge = unique_edges(F)[1]
+    key = side_edge.ravel()
+    n_edges = int(key.max()) + 1 if key.size else 0
+    halfedges = np.arange(key.size)
+    # An edge with exactly two half-edges: its first and last half-edge are the pair.
+    first = np.full(n_edges, key.size, dtype=np.int64)
+    last = np.full(n_edges, -1, dtype=np.int64)
+    np.minimum.at(first, key, halfedges)
+    np.maximum.at(last, key, halfedges)
+    paired = np.bincount(key, minlength=n_edges) == 2
+    a, b = first[paired], last[paired]
     opposite = (tail[a] == head[b]) & (head[a] == tail[b]) & (tail[a] != head[a])
     a, b = a[opposite], b[opposite]
-    twin = np.full(3 * F.shape[0], -1, dtype=np.int64)
+    twin = np.full(key.size, -1, dtype=np.int64)
     twin[a] = b
     twin[b] = a
     return twin
@@ -260,6 +269,15 @@ def _independent_edges(f0, f1, score, n_faces):
     np.minimum.at(best, f0, rank)
     np.minimum.at(best, f1, rank)
     return (best[f0] == rank) & (best[f1] == rank)
+
+
+def _corner_cotangent(lengths, h):
+    """Cotangent of the corner opposite each half-edge ``h``."""
+    f, c = h // 3, h % 3
+    sides = lengths[f]
+    rows = np.arange(f.size)
+    sq = sides**2
+    return (sq[rows, NEXT[c]] + sq[rows, PREV[c]] - sq[rows, c]) / (4.0 * face_areas(sides))
 
 
 def _flipped_diagonal(l_ij, l_jk, l_ki, l_il, l_lj):

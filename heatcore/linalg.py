@@ -75,6 +75,43 @@ def choose_backend(n, prefer="factor"):
     return "cholmod" if "cholmod" in backends else backends[0]
 
 
+class Ordering:
+    """A fill-reducing permutation, and the sparsity pattern it was computed for.
+
+    Matrices with exactly that pattern (a Laplacian, the heat matrix built from
+    it, the grounded Laplacian with explicit zeros kept) reuse the converted
+    pattern: only their values are copied.
+
+    Attributes
+    ----------
+    permutation : (n,) int array
+    """
+
+    def __init__(self, permutation, pattern=None):
+        self.permutation = np.asarray(permutation, dtype=np.int64).ravel()
+        self._pattern = pattern  # (canonical CSR of the full matrix, its lower triangle in cvxopt), or None
+
+    def restrict(self, rows):
+        """The ordering induced on the principal submatrix ``A[rows][:, rows]``.
+
+        Eliminating a subset of the unknowns in the same relative order fills in
+        no more than the full elimination does.
+        """
+        position = np.empty_like(self.permutation)
+        position[self.permutation] = np.arange(self.permutation.size)
+        return Ordering(np.argsort(position[rows], kind="stable"))
+
+    def lower_triangle(self, A):
+        """``A``'s lower triangle in cvxopt form, reusing the pattern where ``A`` has it."""
+        if self._pattern is not None:
+            csr, lower = self._pattern
+            if np.array_equal(A.indptr, csr.indptr) and np.array_equal(A.indices, csr.indices):
+                # The lower triangle by columns is the upper triangle by rows (A is symmetric).
+                lower.V = cvxopt.matrix(A.data[csr.data.astype(bool)])
+                return lower
+        return _to_cvxopt(A)
+
+
 def fill_reducing_ordering(A, backend):
     """A fill-reducing ordering of ``A`` for ``backend``, to share among matrices.
 
@@ -87,28 +124,34 @@ def fill_reducing_ordering(A, backend):
 
     Returns
     -------
-    (n,) int array or None
-        An approximate minimum degree permutation for ``supernodal``; None for
-        the backends that order each matrix themselves. Pass it to
-        :func:`factor` for any matrix whose pattern is contained in ``A``'s,
-        or restrict it with :func:`restrict_ordering` for a principal submatrix.
+    Ordering or None
+        An approximate minimum degree ordering for ``supernodal``; None for the
+        backends that order each matrix themselves. Pass it to :func:`factor`
+        for any matrix whose pattern is contained in ``A``'s, or restrict it with
+        :meth:`Ordering.restrict` for a principal submatrix (``None`` has no
+        restriction to make: use :func:`restrict_ordering`).
     """
     if backend != "supernodal":
         return None
-    return np.asarray(cvxopt_amd.order(_to_cvxopt(A)), dtype=np.int64).ravel()
+    A = _canonical_csr(A)
+    lower = _to_cvxopt(A)
+    rows = np.repeat(np.arange(A.shape[0]), np.diff(A.indptr))
+    upper_entries = sp.csr_matrix((A.indices >= rows, A.indices, A.indptr), shape=A.shape)
+    return Ordering(cvxopt_amd.order(lower), (upper_entries, lower))
 
 
 def restrict_ordering(ordering, rows):
-    """The ordering ``ordering`` induces on the principal submatrix ``A[rows][:, rows]``.
+    """``ordering.restrict(rows)``, or None for no ordering."""
+    return None if ordering is None else ordering.restrict(rows)
 
-    Eliminating a subset of the unknowns in the same relative order fills in no
-    more than the full elimination does.
-    """
-    if ordering is None:
-        return None
-    position = np.empty_like(ordering)
-    position[ordering] = np.arange(ordering.size)
-    return np.argsort(position[rows], kind="stable")
+
+def _canonical_csr(A):
+    """``A`` as CSR with sorted indices and no duplicates."""
+    A = sp.csr_matrix(A)
+    if not A.has_canonical_format:
+        A = A.copy()
+        A.sum_duplicates()
+    return A
 
 
 def _cvxopt_indices(a):
@@ -127,7 +170,8 @@ def _to_cvxopt(A):
 class _SupernodalFactor:
     def __init__(self, A, ordering=None):
         self.n = A.shape[0]
-        C = _to_cvxopt(A)
+        A = _canonical_csr(A)
+        C = _to_cvxopt(A) if ordering is None else ordering.lower_triangle(A)
         cvxopt_cholmod.options["supernodal"] = 2  # always supernodal
         try:
             if ordering is None:
@@ -135,7 +179,7 @@ class _SupernodalFactor:
                 self._factor = cvxopt_cholmod.symbolic(C, uplo="L")
             else:
                 cvxopt_cholmod.options["nmethods"] = 1  # the given ordering, no other tried
-                self._factor = cvxopt_cholmod.symbolic(C, p=_cvxopt_indices(ordering), uplo="L")
+                self._factor = cvxopt_cholmod.symbolic(C, p=_cvxopt_indices(ordering.permutation), uplo="L")
             cvxopt_cholmod.numeric(C, self._factor)
         except ArithmeticError as exc:
             raise SolverError(f"sparse Cholesky factorization failed: the matrix is not positive definite ({exc})") from exc
@@ -214,7 +258,7 @@ def factor(A, backend="auto", prefer="factor", ordering=None):
     prefer : {"factor", "solve"}
         What "auto" optimizes: the factorization (a matrix rebuilt often) or
         the solves (a matrix kept for many solves).
-    ordering : (n,) int array, optional
+    ordering : Ordering, optional
         A fill-reducing ordering from :func:`fill_reducing_ordering`, used by
         the ``supernodal`` backend (the others order each matrix themselves).
 

@@ -24,7 +24,6 @@ from .intrinsic import (
     IntrinsicTriangulation,
     corner_cotangents,
     face_areas,
-    face_edge_lengths,
     mollify,
 )
 from .operators import Operators
@@ -71,10 +70,11 @@ def triangle_operators(lengths, faces, n_vertices, boundary, mean_edge_length):
     cot = corner_cotangents(lengths, areas)
     a = faces[:, NEXT].ravel()
     b = faces[:, PREV].ravel()
-    w = 0.5 * cot.ravel()
-    L = sp.coo_matrix(
-        (np.r_[-w, -w, w, w], (np.r_[a, b, a, b], np.r_[b, a, a, b])), shape=(n_vertices, n_vertices)
-    ).tocsr()
+    w = 0.5 * cot.ravel()  # weight of the side opposite each corner
+    # Off-diagonal entries assembled in the upper triangle (both sides of an edge summed there).
+    upper = sp.csr_matrix((-w, (np.minimum(a, b), np.maximum(a, b))), shape=(n_vertices, n_vertices))
+    diagonal = np.bincount(a, weights=w, minlength=n_vertices) + np.bincount(b, weights=w, minlength=n_vertices)
+    L = (upper + upper.T + sp.diags(diagonal)).tocsr()
     mass = np.bincount(faces.ravel(), weights=np.repeat(areas / 3.0, 3), minlength=n_vertices)
 
     # Planar layout of each triangle: corner 0 at the origin, corner 1 on the x axis.
@@ -84,11 +84,13 @@ def triangle_operators(lengths, faces, n_vertices, boundary, mean_edge_length):
     P[:, 2, 0] = (l1**2 + l2**2 - l0**2) / (2.0 * l2)
     P[:, 2, 1] = 2.0 * areas / l2
     E = P[:, PREV] - P[:, NEXT]  # edge opposite each corner, counter-clockwise
-    grad_hat = np.stack([-E[..., 1], E[..., 0]], axis=2) / (2.0 * areas[:, None, None])
+    # Row 2 f + k of G holds component k of the gradient of each corner's hat function on face f.
+    grad_hat = np.stack([-E[..., 1], E[..., 0]], axis=1) / (2.0 * areas[:, None, None])  # (m, 2, 3)
     m = faces.shape[0]
-    rows = (2 * np.arange(m)[:, None, None] + np.arange(2)[None, None, :]).repeat(3, axis=1)
-    cols = np.broadcast_to(faces[:, :, None], rows.shape)
-    G = sp.csr_matrix((grad_hat.ravel(), (rows.ravel(), cols.ravel())), shape=(2 * m, n_vertices))
+    G = sp.csr_matrix(
+        (grad_hat.ravel(), np.repeat(faces[:, None, :], 2, axis=1).ravel(), np.arange(0, 6 * m + 1, 3)),
+        shape=(2 * m, n_vertices),
+    )
     return Operators(L, mass, G, areas, 2, boundary, faces, mean_edge_length)
 
 
@@ -168,7 +170,7 @@ class TriangleMesh(MeshDomain):
         if h == 0.0:
             raise InvalidMeshError("all edges have zero length: the mesh collapses to a point")
         # Work at unit mean edge length so results scale exactly with the mesh.
-        lengths, self.mollification = mollify(face_edge_lengths(V, F) / h)
+        lengths, self.mollification = mollify(edge_lengths[side_edge] / h)
         self.mollification *= h
         tri = IntrinsicTriangulation.from_mesh(None, F, lengths=lengths, side_edge=side_edge)
         self.n_flips = tri.flip_to_delaunay() if self.robust else 0
