@@ -273,6 +273,8 @@ def _independent_edges(f0, f1, score, n_faces):
 
 def _corner_cotangent(lengths, h):
     """Cotangent of the corner opposite each half-edge ``h``."""
+    if h.size > lengths.shape[0]:  # most faces: all of them at once is faster
+        return corner_cotangents(lengths).ravel()[h]
     f, c = h // 3, h % 3
     sides = lengths[f]
     rows = np.arange(f.size)

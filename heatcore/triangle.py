@@ -77,20 +77,20 @@ def triangle_operators(lengths, faces, n_vertices, boundary, mean_edge_length):
     L = (upper + upper.T + sp.diags(diagonal)).tocsr()
     mass = np.bincount(faces.ravel(), weights=np.repeat(areas / 3.0, 3), minlength=n_vertices)
 
-    # Planar layout of each triangle: corner 0 at the origin, corner 1 on the x axis.
+    # Planar layout of each triangle: corner 0 at (0, 0), corner 1 at (l2, 0), corner 2 at (x, y).
+    # The gradient of corner c's hat function is the edge opposite c (counter-clockwise)
+    # turned by 90 degrees, over twice the area.
     l0, l1, l2 = lengths.T
-    P = np.zeros(faces.shape + (2,))
-    P[:, 1, 0] = l2
-    P[:, 2, 0] = (l1**2 + l2**2 - l0**2) / (2.0 * l2)
-    P[:, 2, 1] = 2.0 * areas / l2
-    E = P[:, PREV] - P[:, NEXT]  # edge opposite each corner, counter-clockwise
-    # Row 2 f + k of G holds component k of the gradient of each corner's hat function on face f.
-    grad_hat = np.stack([-E[..., 1], E[..., 0]], axis=1) / (2.0 * areas[:, None, None])  # (m, 2, 3)
+    x = (l1**2 + l2**2 - l0**2) / (2.0 * l2)
+    y = 2.0 * areas / l2
     m = faces.shape[0]
-    G = sp.csr_matrix(
-        (grad_hat.ravel(), np.repeat(faces[:, None, :], 2, axis=1).ravel(), np.arange(0, 6 * m + 1, 3)),
-        shape=(2 * m, n_vertices),
-    )
+    grad_hat = np.empty((m, 2, 3))  # row 2 f + k of G: component k on face f, one column per corner
+    grad_hat[:, 0, 0], grad_hat[:, 0, 1], grad_hat[:, 0, 2] = -y, y, 0.0
+    grad_hat[:, 1, 0], grad_hat[:, 1, 1], grad_hat[:, 1, 2] = x - l2, -x, l2
+    grad_hat /= (2.0 * areas)[:, None, None]
+    index = np.int32 if max(n_vertices, 6 * m + 1) < np.iinfo(np.int32).max else np.int64
+    columns = np.repeat(faces[:, None, :].astype(index), 2, axis=1).ravel()
+    G = sp.csr_matrix((grad_hat.ravel(), columns, np.arange(0, 6 * m + 1, 3, dtype=index)), shape=(2 * m, n_vertices))
     return Operators(L, mass, G, areas, 2, boundary, faces, mean_edge_length)
 
 
