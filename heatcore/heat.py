@@ -119,7 +119,11 @@ class HeatSolver:
         ground = np.full(self.n_components, n, dtype=np.int64)
         np.minimum.at(ground, self.component, np.arange(n))
         self._ground = ground
-        self._divergence = (ops.gradient.T @ sp.diags(np.repeat(ops.volumes, ops.dim))).tocsr()
+        # -div as one CSR matrix: G^T with column j scaled by the volume of element j // dim.
+        gradient = sp.csr_matrix(ops.gradient)
+        row_volume = np.repeat(np.repeat(ops.volumes, ops.dim), np.diff(gradient.indptr))
+        scaled = sp.csr_matrix((gradient.data * row_volume, gradient.indices, gradient.indptr), shape=gradient.shape)
+        self._divergence = scaled.T.tocsr()
 
         self._backend = backend
         self._laplacian = ops.laplacian.tocsr()

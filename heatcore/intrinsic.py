@@ -161,6 +161,7 @@ class IntrinsicTriangulation:
         """
         total = 0
         tol = 1e-12
+        renamed = np.full(self.twin.size, -1, dtype=np.int64)  # scratch for _flip
         candidates = np.flatnonzero(self.twin > np.arange(self.twin.size))
         for _ in range(max_rounds):
             h, t = candidates, self.twin[candidates]
@@ -171,7 +172,7 @@ class IntrinsicTriangulation:
                 break
             h, t, f0, f1, score = h[bad], t[bad], f0[bad], f1[bad], cot_sum[bad]
             chosen = _independent_edges(f0, f1, score, self.faces.shape[0])
-            self._flip(h[chosen], t[chosen])
+            self._flip(h[chosen], t[chosen], renamed)
             total += int(chosen.sum())
             # Only edges of the flipped faces, and bad edges left for later, can be non-Delaunay now.
             touched = np.concatenate([f0[chosen], f1[chosen]])
@@ -181,8 +182,11 @@ class IntrinsicTriangulation:
             candidates = np.unique(np.minimum(sides[inner], twins[inner]))
         return total
 
-    def _flip(self, h0, h1):
-        """Flip the edges given by half-edge pairs ``(h0, h1)`` (no shared faces)."""
+    def _flip(self, h0, h1, renamed):
+        """Flip the edges given by half-edge pairs ``(h0, h1)`` (no shared faces).
+
+        ``renamed`` is a scratch array of -1 per half-edge, left as it was found.
+        """
         F, Lf, twin = self.faces, self.lengths, self.twin
         f0, c0 = h0 // 3, h0 % 3
         f1, c1 = h1 // 3, h1 % 3
@@ -209,10 +213,11 @@ class IntrinsicTriangulation:
         new = np.concatenate([new_jk, new_ki, new_il, new_lj])
         # The outer edges' twins, renamed where a twin is itself an outer edge that moves.
         outside = twin[old]
-        order = np.argsort(old)
-        at = np.minimum(np.searchsorted(old[order], outside), old.size - 1)
-        moves = old[order][at] == outside
-        outside[moves] = new[order][at[moves]]
+        renamed[old] = new
+        moves = outside >= 0
+        moves[moves] = renamed[outside[moves]] >= 0
+        outside[moves] = renamed[outside[moves]]
+        renamed[old] = -1
         twin[new] = outside
         linked = outside >= 0
         twin[outside[linked]] = new[linked]
@@ -253,7 +258,9 @@ def halfedge_twins(F, side_edge=None):
     np.maximum.at(last, key, halfedges)
     paired = np.bincount(key, minlength=n_edges) == 2
     a, b = first[paired], last[paired]
-    opposite = (tail[a] == head[b]) & (head[a] == tail[b]) & (tail[a] != head[a])
+    # Both join the same two vertices; twins run in opposite directions (a loop has none).
+    forward = tail < head
+    opposite = forward[a] != forward[b]
     a, b = a[opposite], b[opposite]
     twin = np.full(key.size, -1, dtype=np.int64)
     twin[a] = b
@@ -273,7 +280,7 @@ def _independent_edges(f0, f1, score, n_faces):
 
 def _corner_cotangent(lengths, h):
     """Cotangent of the corner opposite each half-edge ``h``."""
-    if h.size > lengths.shape[0]:  # most faces: all of them at once is faster
+    if 2 * h.size > lengths.shape[0]:  # many faces: all of them at once is faster
         return corner_cotangents(lengths).ravel()[h]
     f, c = h // 3, h % 3
     sides = lengths[f]

@@ -84,6 +84,20 @@ def mesh_arrays(V, F):
     return V, F
 
 
+def _may_have_duplicate_rows(S):
+    """False when the rows of ``S`` are certainly distinct (one sort of one integer key per row)."""
+    if S.shape[0] < 2:
+        return False
+    base = int(S.max()) + 1
+    if base ** S.shape[1] >= 2**62:
+        return True
+    key = np.zeros(S.shape[0], dtype=np.int64)
+    for column in S.T:
+        key = key * base + column
+    key.sort()
+    return bool((key[1:] == key[:-1]).any())
+
+
 def clean_elements(E, element="face"):
     """Drop elements with repeated vertices and duplicates of another element.
 
@@ -100,10 +114,11 @@ def clean_elements(E, element="face"):
     """
     S = np.sort(E, axis=1)
     repeated = (S[:, 1:] == S[:, :-1]).any(axis=1)
-    order = np.lexsort(S.T[::-1])
-    same_as_previous = np.r_[False, (S[order[1:]] == S[order[:-1]]).all(axis=1)]
     unique = np.ones(E.shape[0], dtype=bool)
-    unique[order[same_as_previous]] = False
+    if _may_have_duplicate_rows(S):
+        order = np.lexsort(S.T[::-1])
+        same_as_previous = np.r_[False, (S[order[1:]] == S[order[:-1]]).all(axis=1)]
+        unique[order[same_as_previous]] = False
     kept = unique & ~repeated
     n_rep, n_dup = int(repeated.sum()), int((~unique & ~repeated).sum())
     if n_rep or n_dup:
