@@ -103,9 +103,7 @@ class HeatSolver:
         n = ops.n_vertices
         self.boundary = boundary if ops.boundary.any() else "neumann"
 
-        graph = _vertex_graph(ops.elements, n)
-        self.n_components, self.component = connected_components(graph, directed=False)
-        self.hop_diameter = _hop_diameter(graph, self.component)
+        self.n_components, self.component, self.hop_diameter = _connectivity(ops.elements, n)
         self.m_effective = max(self.m, underflow_safe_m(self.hop_diameter))
         if self.m_effective > self.m:
             log.info(
@@ -119,30 +117,14 @@ class HeatSolver:
         ground = np.full(self.n_components, n, dtype=np.int64)
         np.minimum.at(ground, self.component, np.arange(n))
         self._ground = ground
-        # -div as one CSR matrix: G^T with column j scaled by the volume of element j // dim.
-        gradient = sp.csr_matrix(ops.gradient)
-        row_volume = np.repeat(np.repeat(ops.volumes, ops.dim), np.diff(gradient.indptr))
-        scaled = sp.csr_matrix((gradient.data * row_volume, gradient.indices, gradient.indptr), shape=gradient.shape)
-        self._divergence = scaled.T.tocsr()
+        self._gradient_transposed = ops.gradient.T  # a view: -div X = G^T (volumes * X)
 
         self._backend = backend
         self._laplacian = ops.laplacian.tocsr()
         # Factorizations and orderings that depend on the domain only (not on m or
         # the boundary condition) are kept on the domain for every solver built on it.
         self._domain_cache = domain.__dict__.setdefault("_heatcore_factors", {})
-        heat_backend = self._resolve(backend, "factor")
-        heat_matrix = (sp.diags(ops.mass) + self.t * ops.laplacian).tocsr()
-        self._heat_neumann = self._heat_dirichlet = None
-        if self.boundary in ("robin", "neumann"):
-            self._heat_neumann = factor(heat_matrix, heat_backend, ordering=self._ordering(heat_backend))
-        if self.boundary in ("robin", "dirichlet"):
-            self._interior = np.flatnonzero(~ops.boundary)
-            if self._interior.size:
-                ordering = restrict_ordering(self._ordering(heat_backend), self._interior)
-                interior_matrix = heat_matrix[self._interior][:, self._interior]
-                self._heat_dirichlet = factor(interior_matrix, heat_backend, ordering=ordering)
-            if self._heat_neumann is None:  # fallback where Dirichlet sees no heat
-                self._heat_neumann = factor(heat_matrix, heat_backend, ordering=self._ordering(heat_backend))
+        self._factor_heat(self._resolve(backend, "factor"))
         self.timings["heat factorization"] = time.perf_counter() - start
 
         start = time.perf_counter()
@@ -189,7 +171,7 @@ class HeatSolver:
     def distance_from_pins(self, pins):
         """Distance at every operator vertex for prepared :class:`~heatcore.sources.SourcePins`."""
         u = self.heat(pins.heat)
-        b = self._divergence @ self.unit_field(u).ravel()  # = -div X
+        b = self._gradient_transposed @ (self.unit_field(u) * self.ops.volumes[:, None]).ravel()  # = -div X
         reached = None if self.n_components == 1 else np.isin(self.component, self.component[pins.vertices])
         phi = self._pinned_poisson(b, pins, reached)
         phi[pins.vertices] = pins.values
@@ -204,7 +186,7 @@ class HeatSolver:
 
     def heat(self, impulse):
         """Heat after one backward Euler step of length ``t`` from ``impulse``."""
-        u_neumann = self._heat_neumann.solve(impulse) if self._heat_neumann is not None else None
+        u_neumann = self._heat_neumann.solve(impulse)
         if self.boundary == "neumann":
             return u_neumann
         u = np.zeros_like(impulse)
@@ -236,6 +218,20 @@ class HeatSolver:
                 redo = np.hypot(redo, g[tiny, k])
             norm[tiny] = np.where(redo > 0, redo, np.inf)  # a zero gradient gets X = 0
         return g * (-1.0 / norm)[:, None]
+
+    def _factor_heat(self, backend):
+        """Factor ``M + t L`` for the boundary condition (Neumann, interior-only Dirichlet, or both)."""
+        ops = self.ops
+        heat_matrix = (sp.diags(ops.mass) + self.t * ops.laplacian).tocsr()
+        self._heat_dirichlet = None
+        if self.boundary in ("robin", "dirichlet"):
+            self._interior = np.flatnonzero(~ops.boundary)
+            if self._interior.size:
+                ordering = restrict_ordering(self._ordering(backend), self._interior)
+                interior_matrix = heat_matrix[self._interior][:, self._interior]
+                self._heat_dirichlet = factor(interior_matrix, backend, ordering=ordering)
+        # Neumann: the condition itself, half of Robin, or the fallback where Dirichlet sees no heat.
+        self._heat_neumann = factor(heat_matrix, backend, ordering=self._ordering(backend))
 
     def _resolve(self, backend, prefer):
         """The backend that ``backend`` stands for on this domain's matrices."""
@@ -315,6 +311,13 @@ def _grounded(L, ground):
         K.data[on_ground_diagonal] = 1.0
         return K
     return (K + sp.diags(is_ground.astype(float))).tocsr()  # a ground without a diagonal entry
+
+
+def _connectivity(elements, n):
+    """Connected components of the vertex graph, and the hop diameter of the largest."""
+    graph = _vertex_graph(elements, n)
+    n_components, component = connected_components(graph, directed=False)
+    return n_components, component, _hop_diameter(graph, component)
 
 
 def _vertex_graph(elements, n):
