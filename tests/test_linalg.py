@@ -83,3 +83,17 @@ def test_many_pins_use_the_shared_ordering():
     assert np.allclose(d, reference, rtol=1e-8, atol=1e-12)
     exact = np.maximum(V[:, 0] - V[band, 0].max(), 0.0)
     assert np.abs(d - exact).max() < 0.02
+
+
+def test_large_matrix_without_cvxopt_falls_back_and_hints_once(monkeypatch, caplog):
+    monkeypatch.setattr(linalg, "cvxopt", None)
+    monkeypatch.setattr(linalg, "_hinted", False)
+    big = linalg.SUPERNODAL_MIN_SIZE
+    with caplog.at_level("WARNING", logger="heatcore.linalg"):
+        assert linalg.choose_backend(big, "solve") == "cholmod"
+        assert linalg.choose_backend(4 * big, "factor") == "cholmod"  # above QDLDL_MAX_SIZE
+        assert linalg.choose_backend(big, "factor") == "qdldl"
+    hints = [r for r in caplog.records if "heatcore[scale]" in r.getMessage()]
+    assert len(hints) == 1
+    with pytest.raises(hc.SolverError, match="scale"):
+        linalg.factor(heat_matrix(4, 4), "supernodal")
