@@ -315,8 +315,8 @@ def _grounded(L, ground):
 
 def _connectivity(elements, n):
     """Connected components of the vertex graph, and the hop diameter of the largest."""
-    graph = _vertex_graph(elements, n)
-    n_components, component = connected_components(graph, directed=False)
+    graph = _vertex_graph(elements, n)  # symmetric: "directed" traversals skip re-symmetrizing it
+    n_components, component = connected_components(graph, directed=True, connection="weak")
     return n_components, component, _hop_diameter(graph, component)
 
 
@@ -373,10 +373,10 @@ def underflow_safe_m(hop_diameter, budget=HEAT_DECADES_BUDGET):
 
 
 def _hop_diameter(graph, component):
-    """Edge hops across the largest component: two breadth-first sweeps."""
+    """Edge hops across the largest component: two breadth-first sweeps (``graph`` symmetric)."""
     largest = np.bincount(component).argmax()
     start = int(np.flatnonzero(component == largest)[0])
-    hops = shortest_path(graph, unweighted=True, indices=start, directed=False)
+    hops = shortest_path(graph, unweighted=True, indices=start, directed=True)
     far = int(np.argmax(np.where(np.isfinite(hops), hops, -1)))
-    hops = shortest_path(graph, unweighted=True, indices=far, directed=False)
+    hops = shortest_path(graph, unweighted=True, indices=far, directed=True)
     return int(np.max(hops[np.isfinite(hops)]))

@@ -3,7 +3,8 @@
 Run by tests/test_blender.py in a subprocess whose ``sys.path`` holds only
 bpy and numpy (``python -S`` with ``PYTHONPATH``) and whose
 ``BLENDER_USER_RESOURCES`` is a temporary folder, so that heatcore, scipy,
-cholespy and qdldl can only come from the installed extension. Prints one JSON line.
+cholespy, qdldl (and cvxopt where bundled) can only come from the installed extension. Prints
+one JSON line.
 
 Usage: python -S blender_install_check.py EXTENSION.zip
 """
@@ -40,6 +41,16 @@ def main(zip_path):
     import qdldl
     import scipy
 
+    try:
+        import cvxopt
+    except ImportError:  # not bundled on this platform
+        cvxopt = None
+    supernodal = None
+    if cvxopt is not None:  # the large-mesh backend works inside Blender's Python
+        faces = np.array([p.vertices[:] for p in obj.data.polygons])
+        mesh = hc.TriangleMesh(co, faces)
+        supernodal = hc.HeatSolver(mesh, backend="supernodal").distance([top]).tolist()
+
     print(
         json.dumps(
             {
@@ -51,6 +62,8 @@ def main(zip_path):
                 "scipy_file": scipy.__file__,
                 "cholespy_file": cholespy.__file__,
                 "qdldl_file": qdldl.__file__,
+                "cvxopt_file": getattr(cvxopt, "__file__", None),
+                "supernodal_distance": supernodal,
                 "operator": sorted(ran),
                 "color_active": obj.data.color_attributes.active_color.name,
                 "n": n,
