@@ -4,7 +4,8 @@ Every (solver, mesh) pair runs in a child process of its own, so that its peak m
 and a peer that aborts cannot take the benchmark down. The meshes are midpoint subdivisions of
 shared test meshes: subdivision keeps the surface and the original vertices, so exact geodesics
 (MMP, gdist) on the coarse mesh are the truth at the original vertices of the fine mesh, which is
-where the error is measured.
+where the error is measured. ``sphere:K`` is a UV sphere with 2 K^2 + 2 vertices (K = 707: one
+million), measured against great-circle distances at every vertex.
 
 Reported per mesh and solver: precompute time (constructor), first query, cached query (median of
 3), peak resident memory of the child, mean relative error at the original vertices (source:
@@ -29,7 +30,7 @@ import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
 DEFAULT_MESH_DIR = REPO.parent / "shared" / "meshes"
-DEFAULT_MESHES = "nefertiti:0,nefertiti:1,cheburashka:3,nefertiti:2,cheburashka:4"
+DEFAULT_MESHES = "nefertiti:0,nefertiti:1,cheburashka:3,nefertiti:2,sphere:707,cheburashka:4"
 SOLVERS = [
     "heatcore",
     "potpourri3d-robust",
@@ -41,7 +42,31 @@ SOLVERS = [
 QUERY_SOURCES = (0, 1, 2, 3)  # first query from vertex 0, then three cached ones
 
 
+def uv_sphere(rings):
+    """Unit sphere: ``rings`` latitude rings of ``2 * rings`` vertices plus the two poles."""
+    theta = np.pi * np.arange(1, rings + 1) / (rings + 1)
+    phi = np.pi * np.arange(2 * rings) / rings
+    t, p = np.meshgrid(theta, phi, indexing="ij")
+    V = np.vstack([[0.0, 0.0, 1.0], np.column_stack([np.sin(t.ravel()) * np.cos(p.ravel()),
+                   np.sin(t.ravel()) * np.sin(p.ravel()), np.cos(t.ravel())]), [0.0, 0.0, -1.0]])
+    seg = 2 * rings
+    ring = lambda i: 1 + i * seg + np.arange(seg)  # noqa: E731
+    nxt = lambda a: np.roll(a, -1)  # noqa: E731
+    faces = [np.column_stack([np.zeros(seg, int), ring(0), nxt(ring(0))])]
+    for i in range(rings - 1):
+        a, b = ring(i), ring(i + 1)
+        faces += [np.column_stack([a, b, nxt(b)]), np.column_stack([a, nxt(b), nxt(a)])]
+    last = ring(rings - 1)
+    faces.append(np.column_stack([last, np.full(seg, len(V) - 1), nxt(last)]))
+    return V, np.vstack(faces)
+
+
 def load(mesh_dir, name, levels):
+    """(coarse V, F, fine V, F): a shared mesh midpoint-subdivided ``levels`` times, or
+    ``sphere:K``, a UV sphere with K rings (2 K^2 + 2 vertices, all of them "original")."""
+    if name == "sphere":
+        V, F = uv_sphere(levels)
+        return V, F, V, F
     import heatcore as hc
     from heatcore.refine import midpoint_subdivide
 
@@ -123,7 +148,13 @@ def child(args):
     print(json.dumps({"precompute": pre, "queries": times, "rss_gb": peak_rss_gb(), "n": len(V)}))
 
 
-def exact_on_coarse(mesh_dir, name, cache):
+def exact_on_coarse(mesh_dir, spec, cache):
+    """Exact distance from vertex 0 at the original vertices: MMP on the coarse mesh, or the
+    great-circle distance on the sphere."""
+    name, levels = spec.split(":")
+    if name == "sphere":
+        V = uv_sphere(int(levels))[0]
+        return np.arccos(np.clip(V @ V[0], -1.0, 1.0))
     path = Path(cache) / f"{name}_exact0.npy"
     if path.exists():
         return np.load(path)
@@ -163,7 +194,9 @@ def error_stats(d, exact):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--mesh-dir", default=str(DEFAULT_MESH_DIR))
-    parser.add_argument("--meshes", default=DEFAULT_MESHES, help="name:levels,... (midpoint subdivision levels)")
+    parser.add_argument(
+        "--meshes", default=DEFAULT_MESHES, help="name:levels,... (midpoint subdivision levels), or sphere:K (UV sphere)"
+    )
     parser.add_argument("--solvers", default=",".join(SOLVERS))
     parser.add_argument("--timeout", type=int, default=900, help="seconds per solver and mesh")
     parser.add_argument("--workdir", default="/tmp/heatcore-bench-scale")
@@ -179,8 +212,7 @@ def main():
     Path(args.workdir).mkdir(parents=True, exist_ok=True)
     rows = []
     for spec in args.meshes.split(","):
-        name, _ = spec.split(":")
-        exact = exact_on_coarse(args.mesh_dir, name, args.workdir)
+        exact = exact_on_coarse(args.mesh_dir, spec, args.workdir)
         for solver in args.solvers.split(","):
             r = measure(args.mesh_dir, spec, solver, args.workdir, args.timeout)
             row = {"mesh": spec, "solver": solver, **{k: v for k, v in r.items() if k != "distance"}}
