@@ -136,6 +136,9 @@ class HeatSolver:
             self._domain_cache["poisson", backend] = poisson
         self._poisson = self._domain_cache["poisson", backend]
         self.timings["poisson factorization"] = time.perf_counter() - start
+        for key, ordering in self._domain_cache.items():
+            if key[0] == "ordering" and ordering is not None:
+                ordering.forget_pattern()  # its memory matters more than re-converting for another m
         log.info(
             "heat solver ready: %d operator vertices, %d components, t=%.3g, boundary=%s (%.2f s)",
             n,

@@ -97,6 +97,10 @@ class Ordering:
         self.permutation = np.asarray(permutation, dtype=np.int64).ravel()
         self._pattern = pattern  # (canonical CSR of the full matrix, its lower triangle in cvxopt), or None
 
+    def forget_pattern(self):
+        """Drop the converted pattern (its memory); later factorizations convert their matrix."""
+        self._pattern = None
+
     def restrict(self, rows):
         """The ordering induced on the principal submatrix ``A[rows][:, rows]``.
 

@@ -154,7 +154,10 @@ class TriangleMesh(MeshDomain):
         else:
             raise InvalidOptionError(f"refine must be 'auto' or an integer 0..8, got {refine!r}")
         self.robust = bool(robust)
-        self.subdivision = midpoint_subdivide(self.vertices[used], self.vertex_map[self.faces[kept]], self.levels)
+        if used.size == n and kept.all():  # a clean mesh: no renumbered copy needed
+            self.subdivision = midpoint_subdivide(self.vertices, self.faces, self.levels)
+        else:
+            self.subdivision = midpoint_subdivide(self.vertices[used], self.vertex_map[self.faces[kept]], self.levels)
         self.operators = self._build_operators()
 
     def _build_operators(self):

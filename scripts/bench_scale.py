@@ -4,7 +4,7 @@ Every (solver, mesh) pair runs in a child process of its own, so that its peak m
 and a peer that aborts cannot take the benchmark down. The meshes are midpoint subdivisions of
 shared test meshes: subdivision keeps the surface and the original vertices, so exact geodesics
 (MMP, gdist) on the coarse mesh are the truth at the original vertices of the fine mesh, which is
-where the error is measured. ``sphere:K`` is a UV sphere with 2 K^2 + 2 vertices (K = 707: one
+where the error is measured. ``sphere:K`` is a cube sphere with 6 K^2 + 2 vertices (K = 408: one
 million), measured against great-circle distances at every vertex.
 
 Reported per mesh and solver: precompute time (constructor), first query, cached query (median of
@@ -30,7 +30,7 @@ import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
 DEFAULT_MESH_DIR = REPO.parent / "shared" / "meshes"
-DEFAULT_MESHES = "nefertiti:0,nefertiti:1,cheburashka:3,nefertiti:2,sphere:707,cheburashka:4"
+DEFAULT_MESHES = "nefertiti:0,nefertiti:1,cheburashka:3,nefertiti:2,sphere:408,cheburashka:4"
 SOLVERS = [
     "heatcore",
     "potpourri3d-robust",
@@ -42,30 +42,43 @@ SOLVERS = [
 QUERY_SOURCES = (0, 1, 2, 3)  # first query from vertex 0, then three cached ones
 
 
-def uv_sphere(rings):
-    """Unit sphere: ``rings`` latitude rings of ``2 * rings`` vertices plus the two poles."""
-    theta = np.pi * np.arange(1, rings + 1) / (rings + 1)
-    phi = np.pi * np.arange(2 * rings) / rings
-    t, p = np.meshgrid(theta, phi, indexing="ij")
-    V = np.vstack([[0.0, 0.0, 1.0], np.column_stack([np.sin(t.ravel()) * np.cos(p.ravel()),
-                   np.sin(t.ravel()) * np.sin(p.ravel()), np.cos(t.ravel())]), [0.0, 0.0, -1.0]])
-    seg = 2 * rings
-    ring = lambda i: 1 + i * seg + np.arange(seg)  # noqa: E731
-    nxt = lambda a: np.roll(a, -1)  # noqa: E731
-    faces = [np.column_stack([np.zeros(seg, int), ring(0), nxt(ring(0))])]
-    for i in range(rings - 1):
-        a, b = ring(i), ring(i + 1)
-        faces += [np.column_stack([a, b, nxt(b)]), np.column_stack([a, nxt(b), nxt(a)])]
-    last = ring(rings - 1)
-    faces.append(np.column_stack([last, np.full(seg, len(V) - 1), nxt(last)]))
-    return V, np.vstack(faces)
+def cube_sphere(cells):
+    """Unit sphere: a cube with ``cells`` x ``cells`` squares per side (two triangles each), projected.
+
+    ``6 cells^2 + 2`` vertices of valence 4 to 6 (no poles). Vertex 0 is moved off the cube's
+    corners and edges, to the middle of a side.
+    """
+    t = np.linspace(-1.0, 1.0, cells + 1)
+    a, b = (g.ravel() for g in np.meshgrid(t, t, indexing="ij"))
+    one = np.ones_like(a)
+    sides = [np.column_stack(c) for c in ([one, a, b], [-one, a, b], [a, one, b], [a, -one, b], [a, b, one], [a, b, -one])]
+    i, j = np.meshgrid(np.arange(cells), np.arange(cells), indexing="ij")
+    corner = (i * (cells + 1) + j).ravel()
+    quad = np.column_stack([corner, corner + cells + 1, corner + cells + 2, corner + 1])
+    F = np.vstack([np.vstack([quad[:, [0, 1, 2]], quad[:, [0, 2, 3]]]) + k * (cells + 1) ** 2 for k in range(6)])
+    P = np.vstack(sides)
+    # Merge the copies of the points shared by two or three sides.
+    P, index = np.unique(np.round(P, 12), axis=0, return_inverse=True)
+    F = index.ravel()[F]
+    V = P / np.linalg.norm(P, axis=1, keepdims=True)
+    # Orient every triangle outwards.
+    normal = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    inward = np.einsum("ij,ij->i", normal, V[F].sum(axis=1)) < 0
+    F[inward] = F[inward][:, ::-1]
+    # Vertex 0: the centre of the +z side.
+    centre = int(np.argmax(V[:, 2]))
+    order = np.arange(len(V))
+    order[[0, centre]] = order[[centre, 0]]
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(V))
+    return V[order], rank[F]
 
 
 def load(mesh_dir, name, levels):
     """(coarse V, F, fine V, F): a shared mesh midpoint-subdivided ``levels`` times, or
-    ``sphere:K``, a UV sphere with K rings (2 K^2 + 2 vertices, all of them "original")."""
+    ``sphere:K``, :func:`cube_sphere` with K cells per side (all vertices "original")."""
     if name == "sphere":
-        V, F = uv_sphere(levels)
+        V, F = cube_sphere(levels)
         return V, F, V, F
     import heatcore as hc
     from heatcore.refine import midpoint_subdivide
@@ -153,7 +166,7 @@ def exact_on_coarse(mesh_dir, spec, cache):
     great-circle distance on the sphere."""
     name, levels = spec.split(":")
     if name == "sphere":
-        V = uv_sphere(int(levels))[0]
+        V = cube_sphere(int(levels))[0]
         return np.arccos(np.clip(V @ V[0], -1.0, 1.0))
     path = Path(cache) / f"{name}_exact0.npy"
     if path.exists():
@@ -195,7 +208,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--mesh-dir", default=str(DEFAULT_MESH_DIR))
     parser.add_argument(
-        "--meshes", default=DEFAULT_MESHES, help="name:levels,... (midpoint subdivision levels), or sphere:K (UV sphere)"
+        "--meshes", default=DEFAULT_MESHES, help="name:levels,... (midpoint subdivision levels), or sphere:K (cube sphere)"
     )
     parser.add_argument("--solvers", default=",".join(SOLVERS))
     parser.add_argument("--timeout", type=int, default=900, help="seconds per solver and mesh")
