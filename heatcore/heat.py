@@ -59,7 +59,7 @@ class HeatSolver:
         smoothing). "high" follows it with an ordered eikonal pass that uses
         the heat distance as the order (:mod:`heatcore.eikonal`); triangle
         meshes only.
-    backend : {"auto", "qdldl", "cholmod", "superlu"}
+    backend : {"auto", "supernodal", "qdldl", "cholmod", "superlu"}
         Sparse factorization backend (see :mod:`heatcore.linalg`).
 
     Attributes

@@ -4,7 +4,7 @@
 
 - ``supernodal`` (CHOLMOD's supernodal Cholesky with BLAS, through
   ``cvxopt``; the ``scale`` extra): by far the fastest factorization of large
-  matrices (800k-vertex mesh: 1.5 s with a given ordering, against 10 s for
+  matrices (800k-vertex mesh: about 2.5 s, against 10 s for
   ``cholmod`` and 21 s for ``qdldl``), and it accepts a fill-reducing ordering
   computed once (:func:`fill_reducing_ordering`) for every matrix with the
   same sparsity pattern;
@@ -95,7 +95,7 @@ class Ordering:
 
     def __init__(self, permutation, pattern=None):
         self.permutation = np.asarray(permutation, dtype=np.int64).ravel()
-        self._pattern = pattern  # (canonical CSR of the full matrix, its lower triangle in cvxopt), or None
+        self._pattern = pattern  # (the pattern as CSR, True on its upper triangle; the lower triangle in cvxopt)
 
     def forget_pattern(self):
         """Drop the converted pattern (its memory); later factorizations convert their matrix."""
