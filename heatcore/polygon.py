@@ -48,7 +48,7 @@ from .errors import HeatcoreWarning, InvalidMeshError, InvalidSourceError
 from .intrinsic import IntrinsicTriangulation, face_edge_lengths, mollify
 from .operators import Operators
 from .refine import unique_edges
-from .sources import SourcePins, index_list
+from .sources import SourcePins, edge_list, index_list
 from .triangle import triangle_operators
 from .validate import vertex_array
 
@@ -412,10 +412,7 @@ class PolygonMesh(MeshDomain):
             v = index_list(vertices, self.n_input_vertices, "vertex")
             pins.append(self._referenced(v))
         if edges is not None:
-            e = np.asarray(edges)
-            if e.size and (e.ndim != 2 or e.shape[1] != 2):
-                raise InvalidSourceError(f"edges must have shape (k, 2), got {e.shape}")
-            e = index_list(e.reshape(-1), self.n_input_vertices, "vertex").reshape(-1, 2)
+            e = edge_list(edges, self.n_input_vertices)
             ce = np.sort(self._referenced(e.ravel()).reshape(-1, 2), axis=1)
             n = self.operators.n_vertices
             keys = self.polygon_edges[:, 0] * n + self.polygon_edges[:, 1]

@@ -41,6 +41,20 @@ class SourcePins:
         return cls(vertices[first], values[first], heat)
 
 
+def edge_list(edges, n_vertices):
+    """Validate edges given as vertex pairs; returns a ``(k, 2)`` int64 array.
+
+    Raises
+    ------
+    InvalidSourceError
+        Not of shape ``(k, 2)``, or vertex indices that :func:`index_list` rejects.
+    """
+    e = np.asarray(edges)
+    if e.size and (e.ndim != 2 or e.shape[1] != 2):
+        raise InvalidSourceError(f"edges must have shape (k, 2), got {e.shape}")
+    return index_list(e.reshape(-1), n_vertices, "vertex").reshape(-1, 2)
+
+
 def index_list(indices, upper, what):
     """Validate a list of indices into ``range(upper)``; returns an int64 array.
 

@@ -41,7 +41,7 @@ import scipy.sparse as sp
 
 from .domain import MeshDomain
 from .errors import HeatcoreWarning, InvalidMeshError, InvalidSourceError
-from .operators import Operators
+from .operators import Operators, laplacian_from_weights
 from .sources import SourcePins, barycentric_array, index_list
 from .validate import clean_elements, index_array, vertex_array
 
@@ -158,10 +158,7 @@ def cotan_laplacian(V, T):
     length = np.linalg.norm(P[:, l] - P[:, k], axis=2)
     w = (length * cot / 6.0).ravel()
     a, b = T[:, i].ravel(), T[:, j].ravel()
-    n = V.shape[0]
-    return sp.coo_matrix(
-        (np.r_[-w, -w, w, w], (np.r_[a, b, a, b], np.r_[b, a, a, b])), shape=(n, n)
-    ).tocsr()
+    return laplacian_from_weights(a, b, w, V.shape[0])
 
 
 def tet_gradient(V, T):

@@ -26,9 +26,9 @@ from .intrinsic import (
     face_areas,
     mollify,
 )
-from .operators import Operators
+from .operators import Operators, laplacian_from_weights
 from .refine import midpoint_subdivide
-from .sources import SourcePins, barycentric_array, index_list
+from .sources import SourcePins, barycentric_array, edge_list, index_list
 from .validate import clean_elements, mesh_arrays
 
 #: ``refine="auto"`` subdivides meshes with fewer vertices than this. On
@@ -70,11 +70,7 @@ def triangle_operators(lengths, faces, n_vertices, boundary, mean_edge_length):
     cot = corner_cotangents(lengths, areas)
     a = faces[:, NEXT].ravel()
     b = faces[:, PREV].ravel()
-    w = 0.5 * cot.ravel()  # weight of the side opposite each corner
-    # Off-diagonal entries assembled in the upper triangle (both sides of an edge summed there).
-    upper = sp.csr_matrix((-w, (np.minimum(a, b), np.maximum(a, b))), shape=(n_vertices, n_vertices))
-    diagonal = np.bincount(a, weights=w, minlength=n_vertices) + np.bincount(b, weights=w, minlength=n_vertices)
-    L = (upper + upper.T + sp.diags(diagonal)).tocsr()
+    L = laplacian_from_weights(a, b, 0.5 * cot.ravel(), n_vertices)  # half the cotangent opposite each side
     mass = np.bincount(faces.ravel(), weights=np.repeat(areas / 3.0, 3), minlength=n_vertices)
 
     # Planar layout of each triangle: corner 0 at (0, 0), corner 1 at (l2, 0), corner 2 at (x, y).
@@ -215,10 +211,7 @@ class TriangleMesh(MeshDomain):
             v = index_list(vertices, self.n_input_vertices, "vertex")
             pin(self._referenced(v), np.zeros(v.size), np.ones(v.size))
         if edges is not None:
-            e = np.asarray(edges)
-            if e.size and (e.ndim != 2 or e.shape[1] != 2):
-                raise InvalidSourceError(f"edges must have shape (k, 2), got {e.shape}")
-            e = index_list(e.reshape(-1), self.n_input_vertices, "vertex").reshape(-1, 2)
+            e = edge_list(edges, self.n_input_vertices)
             ce = np.sort(self._referenced(e.ravel()).reshape(-1, 2), axis=1)
             edge_id = self._edge_ids(ce, e)
             inner = np.flatnonzero(np.isin(sub.vertex_edge, edge_id))
