@@ -53,11 +53,18 @@ try:  # pragma: no cover - the optional "scale" extra
     from cvxopt import cholmod as cvxopt_cholmod
 except ImportError:  # pragma: no cover
     cvxopt = None
+try:  # pragma: no cover - the optional "scale" extra
+    import pymetis
+except ImportError:  # pragma: no cover
+    pymetis = None
 
 log = logging.getLogger(__name__)
 
 #: From this many unknowns up "auto" uses the supernodal backend where installed.
 SUPERNODAL_MIN_SIZE = 100_000
+#: From this many unknowns up the supernodal backend orders by nested dissection where
+#: ``pymetis`` is installed (see :func:`fill_reducing_ordering`).
+NESTED_DISSECTION_MIN_SIZE = 500_000
 #: Without the supernodal backend, "auto" prefers ``cholmod`` to ``qdldl`` above this size.
 QDLDL_MAX_SIZE = 300_000
 
@@ -150,11 +157,24 @@ def fill_reducing_ordering(A, backend):
     Returns
     -------
     Ordering or None
-        An approximate minimum degree ordering for ``supernodal``; None for the
-        backends that order each matrix themselves. Pass it to :func:`factor`
-        for any matrix whose pattern is contained in ``A``'s, or restrict it with
-        :meth:`Ordering.restrict` for a principal submatrix (``None`` has no
-        restriction to make: use :func:`restrict_ordering`).
+        For ``supernodal``: METIS nested dissection from
+        ``NESTED_DISSECTION_MIN_SIZE`` unknowns up where ``pymetis`` is
+        installed (the ``scale`` extra), else approximate minimum degree; None
+        for the backends that order each matrix themselves. Pass it to
+        :func:`factor` for any matrix whose pattern is contained in ``A``'s, or
+        restrict it with :meth:`Ordering.restrict` for a principal submatrix
+        (``None`` has no restriction to make: use :func:`restrict_ordering`).
+
+    Notes
+    -----
+    On meshes nested dissection takes seconds longer to compute than minimum
+    degree (1M-vertex sphere: 4.5 s against 0.4 s) but its factors are a third
+    smaller (0.76 GB against 1.18 GB), factor about twice as fast and solve
+    10% faster. Measured per solver (one heat and one Poisson factor): from
+    800k vertices it costs about 1 s of precomputation and saves 13-15% of the
+    peak memory and 10% of every query; at 1.7M vertices it saves 20% of the
+    memory, 14% of every query and some precomputation too. Below 500k the
+    extra second weighs more than the savings.
     """
     if backend != "supernodal":
         return None
@@ -162,7 +182,26 @@ def fill_reducing_ordering(A, backend):
     lower = _to_cvxopt(A)
     rows = np.repeat(np.arange(A.shape[0]), np.diff(A.indptr))
     upper_entries = sp.csr_matrix((A.indices >= rows, A.indices, A.indptr), shape=A.shape)
-    return Ordering(cvxopt_amd.order(lower), (upper_entries, lower))
+    if pymetis is not None and A.shape[0] >= NESTED_DISSECTION_MIN_SIZE:
+        permutation = nested_dissection(A.indptr, A.indices, rows)
+    else:
+        permutation = cvxopt_amd.order(lower)
+    return Ordering(permutation, (upper_entries, lower))
+
+
+def nested_dissection(indptr, indices, rows):
+    """METIS nested dissection of the graph of a sparse symmetric pattern (CSR, with its row indices).
+
+    Returns the elimination order: ``permutation[k]`` is the ``k``-th row eliminated.
+    """
+    off_diagonal = indices != rows
+    xadj = np.zeros(indptr.size, dtype=np.int32)
+    np.cumsum(np.bincount(rows[off_diagonal], minlength=indptr.size - 1), out=xadj[1:])
+    graph = pymetis.CSRAdjacency(xadj, indices[off_diagonal].astype(np.int32))
+    # One refinement pass and random matching coarsen and refine faster than
+    # METIS's defaults (4.4 s against 5.2 s on a 1M-vertex sphere) for a factor as small.
+    options = pymetis.Options(niter=1, ctype=0, no2hop=1)
+    return np.asarray(pymetis.nested_dissection(graph, options=options)[0], dtype=np.int64)
 
 
 def restrict_ordering(ordering, rows):

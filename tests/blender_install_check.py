@@ -3,7 +3,7 @@
 Run by tests/test_blender.py in a subprocess whose ``sys.path`` holds only
 bpy and numpy (``python -S`` with ``PYTHONPATH``) and whose
 ``BLENDER_USER_RESOURCES`` is a temporary folder, so that heatcore, scipy,
-cholespy, qdldl (and cvxopt where bundled) can only come from the installed extension. Prints
+cholespy, qdldl (and cvxopt, pymetis where bundled) can only come from the installed extension. Prints
 one JSON line.
 
 Usage: python -S blender_install_check.py EXTENSION.zip
@@ -45,8 +45,14 @@ def main(zip_path):
         import cvxopt
     except ImportError:  # not bundled on this platform
         cvxopt = None
+    try:
+        import pymetis
+    except ImportError:  # not bundled on this platform
+        pymetis = None
     supernodal = None
     if cvxopt is not None:  # the large-mesh backend works inside Blender's Python
+        if pymetis is not None:  # with its nested dissection, used here on a small mesh
+            hc.linalg.NESTED_DISSECTION_MIN_SIZE = 0
         faces = np.array([p.vertices[:] for p in obj.data.polygons])
         mesh = hc.TriangleMesh(co, faces)
         supernodal = hc.HeatSolver(mesh, backend="supernodal").distance([top]).tolist()
@@ -63,6 +69,7 @@ def main(zip_path):
                 "cholespy_file": cholespy.__file__,
                 "qdldl_file": qdldl.__file__,
                 "cvxopt_file": getattr(cvxopt, "__file__", None),
+                "pymetis_file": getattr(pymetis, "__file__", None),
                 "supernodal_distance": supernodal,
                 "operator": sorted(ran),
                 "color_active": obj.data.color_attributes.active_color.name,

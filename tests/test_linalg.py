@@ -43,6 +43,38 @@ def test_supernodal_shares_one_ordering_with_a_principal_submatrix():
     assert np.abs(sub @ x - b).max() < 1e-12
 
 
+@pytest.mark.skipif(linalg.pymetis is None or linalg.cvxopt is None, reason="needs the scale extra")
+def test_nested_dissection_orders_large_matrices_with_less_fill(monkeypatch):
+    from cvxopt import cholmod
+
+    A = heat_matrix(60, 60)
+    n = A.shape[0]
+    natural = linalg.Ordering(np.arange(n))
+    amd = linalg.fill_reducing_ordering(A, "supernodal")  # below the size threshold
+    monkeypatch.setattr(linalg, "NESTED_DISSECTION_MIN_SIZE", n)
+    nested = linalg.fill_reducing_ordering(A, "supernodal")
+    assert np.array_equal(np.sort(nested.permutation), np.arange(n))
+    assert not np.array_equal(nested.permutation, amd.permutation)
+
+    def factor_entries(ordering):
+        f = linalg.factor(A, "supernodal", ordering=ordering)
+        x = f.solve(np.ones(n))
+        assert np.abs(A @ x - 1.0).max() < 1e-10
+        return len(cholmod.getfactor(f._factor))
+
+    # a 60 x 60 grid: measured 90k stored entries by nested dissection, 99k by AMD, 243k in natural order
+    by_amd = factor_entries(amd)
+    assert factor_entries(nested) < 0.95 * by_amd and by_amd < 0.5 * factor_entries(natural)
+
+
+@pytest.mark.skipif(linalg.pymetis is None, reason="needs the scale extra")
+def test_nested_dissection_of_a_graph_with_isolated_vertices():
+    A = sp.csr_matrix(sp.block_diag([sp.eye(3), heat_matrix(5, 5), sp.eye(2)]))
+    rows = np.repeat(np.arange(A.shape[0]), np.diff(A.indptr))
+    permutation = linalg.nested_dissection(A.indptr, A.indices, rows)
+    assert np.array_equal(np.sort(permutation), np.arange(A.shape[0]))
+
+
 def test_supernodal_reuses_the_pattern_only_where_it_matches():
     A = heat_matrix()
     ordering = linalg.fill_reducing_ordering(A, "supernodal")
