@@ -22,13 +22,14 @@ Examples
 
 import logging
 import time
+from concurrent.futures import Future
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components, shortest_path
 
-from .errors import InvalidOptionError
-from .linalg import choose_backend, factor, fill_reducing_ordering, restrict_ordering
+from .errors import InvalidOptionError, SolverError
+from .linalg import Ordering, choose_backend, factor, fill_reducing_ordering, restrict_ordering, start_nested_dissection
 
 log = logging.getLogger("heatcore")
 
@@ -102,6 +103,16 @@ class HeatSolver:
         start = time.perf_counter()
         n = ops.n_vertices
         self.boundary = boundary if ops.boundary.any() else "neumann"
+        self._backend = backend
+        self._laplacian = ops.laplacian.tocsr()
+        # Factorizations and orderings that depend on the domain only (not on m or
+        # the boundary condition) are kept on the domain for every solver built on it.
+        self._domain_cache = domain.__dict__.setdefault("_heatcore_factors", {})
+        poisson_backend = self._resolve(backend, "solve")
+        if ("poisson", backend) not in self._domain_cache and ("nested", poisson_backend) not in self._domain_cache:
+            # On large meshes: a better ordering for the Poisson factor, computed in the
+            # background while the heat matrix is factored (with the quick ordering).
+            self._domain_cache["nested", poisson_backend] = start_nested_dissection(self._laplacian, poisson_backend)
 
         self.n_components, self.component, self.hop_diameter = _connectivity(ops.elements, n)
         self.m_effective = max(self.m, underflow_safe_m(self.hop_diameter))
@@ -118,26 +129,19 @@ class HeatSolver:
         np.minimum.at(ground, self.component, np.arange(n))
         self._ground = ground
         self._gradient_transposed = ops.gradient.T  # a view: -div X = G^T (volumes * X)
-
-        self._backend = backend
-        self._laplacian = ops.laplacian.tocsr()
-        # Factorizations and orderings that depend on the domain only (not on m or
-        # the boundary condition) are kept on the domain for every solver built on it.
-        self._domain_cache = domain.__dict__.setdefault("_heatcore_factors", {})
         self._factor_heat(self._resolve(backend, "factor"))
         self.timings["heat factorization"] = time.perf_counter() - start
 
         start = time.perf_counter()
         # The Poisson factorization is kept for every query, so it is made for fast solves.
         if ("poisson", backend) not in self._domain_cache:
-            poisson_backend = self._resolve(backend, "solve")
             grounded = _grounded(self._laplacian, ground)
-            poisson = factor(grounded, poisson_backend, ordering=self._ordering(poisson_backend))
+            poisson = factor(grounded, poisson_backend, ordering=self._laplacian_ordering(poisson_backend))
             self._domain_cache["poisson", backend] = poisson
         self._poisson = self._domain_cache["poisson", backend]
         self.timings["poisson factorization"] = time.perf_counter() - start
         for key, ordering in self._domain_cache.items():
-            if key[0] == "ordering" and ordering is not None:
+            if isinstance(ordering, Ordering):
                 ordering.forget_pattern()  # its memory matters more than re-converting for another m
         log.info(
             "heat solver ready: %d operator vertices, %d components, t=%.3g, boundary=%s (%.2f s)",
@@ -246,6 +250,18 @@ class HeatSolver:
             self._domain_cache["ordering", backend] = fill_reducing_ordering(self._laplacian, backend)
         return self._domain_cache["ordering", backend]
 
+    def _laplacian_ordering(self, backend):
+        """The best ordering at hand for the Laplacian: nested dissection where it was started, else the quick one."""
+        nested = self._domain_cache.get(("nested", backend))
+        if isinstance(nested, Future):
+            try:
+                nested = self._ordering(backend).reordered(nested.result())
+            except SolverError as exc:  # pragma: no cover - METIS ran out of memory, say
+                log.warning("%s; using the minimum degree ordering", exc)
+                nested = None
+            self._domain_cache["nested", backend] = nested
+        return nested or self._ordering(backend)
+
     def _solve_grounded(self, rhs):
         """Solve ``L x = rhs`` per component with ``x = 0`` at each component's ground vertex."""
         rhs[self._ground] = 0.0  # callers pass arrays of their own
@@ -290,7 +306,7 @@ class HeatSolver:
             L = self._laplacian
             rhs = b[idx] - L[idx][:, P] @ d
             backend = self._resolve(self._backend, "factor")
-            ordering = restrict_ordering(self._ordering(backend), idx)
+            ordering = restrict_ordering(self._laplacian_ordering(backend), idx)
             phi[idx] = factor(L[idx][:, idx], backend, ordering=ordering).solve(rhs)
         return phi
 

@@ -31,7 +31,10 @@ Examples
 array([1., 1.])
 """
 
+import ctypes
+import ctypes.util
 import logging
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import scipy.sparse as sp
@@ -55,6 +58,7 @@ except ImportError:  # pragma: no cover
     cvxopt = None
 try:  # pragma: no cover - the optional "scale" extra
     import pymetis
+    import pymetis._internal
 except ImportError:  # pragma: no cover
     pymetis = None
 
@@ -62,8 +66,7 @@ log = logging.getLogger(__name__)
 
 #: From this many unknowns up "auto" uses the supernodal backend where installed.
 SUPERNODAL_MIN_SIZE = 100_000
-#: From this many unknowns up the supernodal backend orders by nested dissection where
-#: ``pymetis`` is installed (see :func:`fill_reducing_ordering`).
+#: From this many unknowns up :func:`start_nested_dissection` orders by METIS (see there).
 NESTED_DISSECTION_MIN_SIZE = 500_000
 #: Without the supernodal backend, "auto" prefers ``cholmod`` to ``qdldl`` above this size.
 QDLDL_MAX_SIZE = 300_000
@@ -107,6 +110,10 @@ class Ordering:
     def forget_pattern(self):
         """Drop the converted pattern (its memory); later factorizations convert their matrix."""
         self._pattern = None
+
+    def reordered(self, permutation):
+        """Another ordering of the same pattern (sharing its converted pattern)."""
+        return Ordering(permutation, self._pattern)
 
     def restrict(self, rows):
         """The ordering induced on the principal submatrix ``A[rows][:, rows]``.
@@ -157,24 +164,11 @@ def fill_reducing_ordering(A, backend):
     Returns
     -------
     Ordering or None
-        For ``supernodal``: METIS nested dissection from
-        ``NESTED_DISSECTION_MIN_SIZE`` unknowns up where ``pymetis`` is
-        installed (the ``scale`` extra), else approximate minimum degree; None
-        for the backends that order each matrix themselves. Pass it to
-        :func:`factor` for any matrix whose pattern is contained in ``A``'s, or
-        restrict it with :meth:`Ordering.restrict` for a principal submatrix
-        (``None`` has no restriction to make: use :func:`restrict_ordering`).
-
-    Notes
-    -----
-    On meshes nested dissection takes seconds longer to compute than minimum
-    degree (1M-vertex sphere: 4.5 s against 0.4 s) but its factors are a third
-    smaller (0.76 GB against 1.18 GB), factor about twice as fast and solve
-    10% faster. Measured per solver (one heat and one Poisson factor): from
-    800k vertices it costs about 1 s of precomputation and saves 13-15% of the
-    peak memory and 10% of every query; at 1.7M vertices it saves 20% of the
-    memory, 14% of every query and some precomputation too. Below 500k the
-    extra second weighs more than the savings.
+        An approximate minimum degree ordering for ``supernodal``; None for the
+        backends that order each matrix themselves. Pass it to :func:`factor`
+        for any matrix whose pattern is contained in ``A``'s, or restrict it with
+        :meth:`Ordering.restrict` for a principal submatrix (``None`` has no
+        restriction to make: use :func:`restrict_ordering`).
     """
     if backend != "supernodal":
         return None
@@ -182,26 +176,79 @@ def fill_reducing_ordering(A, backend):
     lower = _to_cvxopt(A)
     rows = np.repeat(np.arange(A.shape[0]), np.diff(A.indptr))
     upper_entries = sp.csr_matrix((A.indices >= rows, A.indices, A.indptr), shape=A.shape)
-    if pymetis is not None and A.shape[0] >= NESTED_DISSECTION_MIN_SIZE:
-        permutation = nested_dissection(A.indptr, A.indices, rows)
-    else:
-        permutation = cvxopt_amd.order(lower)
-    return Ordering(permutation, (upper_entries, lower))
+    return Ordering(cvxopt_amd.order(lower), (upper_entries, lower))
 
 
-def nested_dissection(indptr, indices, rows):
-    """METIS nested dissection of the graph of a sparse symmetric pattern (CSR, with its row indices).
+def _metis_node_nd():
+    """METIS_NodeND of the METIS that pymetis ships, as a ctypes function (which releases the GIL), or None."""
+    if pymetis is None:
+        return None
+    try:
+        library = ctypes.CDLL(pymetis._internal.__file__)
+        node_nd, set_defaults = library.METIS_NodeND, library.METIS_SetDefaultOptions
+        index_type = {32: np.int32, 64: np.int64}[pymetis._internal._idx_type_width()]
+        keys = pymetis._internal.options_indices
+        options = np.zeros(40, dtype=index_type)  # METIS_NOPTIONS
+        set_defaults(ctypes.c_void_p(options.ctypes.data))
+        # One refinement pass and random matching: 4.4 s instead of 5.2 s on a 1M-vertex sphere,
+        # for a factor as small as with METIS's defaults.
+        options[[keys.NITER, keys.CTYPE, keys.NO2HOP]] = [1, 0, 1]
+    except (AttributeError, KeyError, OSError):  # pragma: no cover - another pymetis build
+        return None
+    return node_nd, index_type, options
 
-    Returns the elimination order: ``permutation[k]`` is the ``k``-th row eliminated.
+
+_node_nd = _metis_node_nd()
+_background = ThreadPoolExecutor(max_workers=1, thread_name_prefix="heatcore-nested-dissection")
+
+
+def start_nested_dissection(A, backend):
+    """Start a METIS nested dissection of ``A``'s pattern in a background thread.
+
+    Nested dissection takes seconds longer than minimum degree on meshes
+    (1M-vertex sphere: 4.4 s against 0.4 s), but the factor it leads to is a
+    third smaller (0.76 GB against 1.18 GB), factors about twice as fast and
+    solves 10% faster. METIS runs here without the GIL, so the caller factors
+    another matrix meanwhile (the heat solver: its heat matrix, with the AMD
+    ordering) and uses this ordering where it pays most (the Poisson factor,
+    kept for every query).
+
+    Parameters
+    ----------
+    A : (n, n) sparse symmetric matrix
+        Only its sparsity pattern matters.
+    backend : str
+        A backend name (not "auto").
+
+    Returns
+    -------
+    concurrent.futures.Future or None
+        Its result is the permutation (``permutation[k]`` is the ``k``-th
+        unknown eliminated), for :meth:`Ordering.reordered`. None where it does
+        not pay or cannot run: a backend other than ``supernodal``, fewer than
+        ``NESTED_DISSECTION_MIN_SIZE`` unknowns, or no ``pymetis``.
     """
-    off_diagonal = indices != rows
-    xadj = np.zeros(indptr.size, dtype=np.int32)
-    np.cumsum(np.bincount(rows[off_diagonal], minlength=indptr.size - 1), out=xadj[1:])
-    graph = pymetis.CSRAdjacency(xadj, indices[off_diagonal].astype(np.int32))
-    # One refinement pass and random matching coarsen and refine faster than
-    # METIS's defaults (4.4 s against 5.2 s on a 1M-vertex sphere) for a factor as small.
-    options = pymetis.Options(niter=1, ctype=0, no2hop=1)
-    return np.asarray(pymetis.nested_dissection(graph, options=options)[0], dtype=np.int64)
+    if backend != "supernodal" or A.shape[0] < NESTED_DISSECTION_MIN_SIZE or _node_nd is None:
+        return None
+    node_nd, index_type, options = _node_nd
+    A = _canonical_csr(A)
+    n = A.shape[0]
+    rows = np.repeat(np.arange(n), np.diff(A.indptr))
+    off_diagonal = A.indices != rows
+    xadj = np.zeros(n + 1, dtype=index_type)
+    np.cumsum(np.bincount(rows[off_diagonal], minlength=n), out=xadj[1:])
+    adjncy = A.indices[off_diagonal].astype(index_type)
+
+    def run():
+        size = np.array([n], dtype=index_type)
+        permutation, inverse = np.empty(n, dtype=index_type), np.empty(n, dtype=index_type)
+        arrays = [size, xadj, adjncy, None, options, permutation, inverse]
+        status = node_nd(*(None if a is None else ctypes.c_void_p(a.ctypes.data) for a in arrays))
+        if status != 1:  # METIS_OK
+            raise SolverError(f"METIS nested dissection failed (status {status})")
+        return permutation.astype(np.int64)
+
+    return _background.submit(run)
 
 
 def restrict_ordering(ordering, rows):
@@ -231,11 +278,35 @@ def _to_cvxopt(A):
     )
 
 
+def _libc_malloc_trim():
+    """glibc's ``malloc_trim``, or None on other C libraries."""
+    try:
+        return ctypes.CDLL(ctypes.util.find_library("c")).malloc_trim
+    except (AttributeError, OSError, TypeError):  # pragma: no cover - macOS, Windows, musl
+        return None
+
+
+_malloc_trim = _libc_malloc_trim()
+
+
+def release_free_memory():
+    """Give the heap memory that is free but still held back to the operating system.
+
+    The C heap keeps much of what a mesh build frees (1M vertices: about 0.4 GB,
+    in chunks that a factor's large arrays cannot reuse); returning it before
+    a large factorization lowers the peak memory by that much. glibc only; a
+    no-op elsewhere.
+    """
+    if _malloc_trim is not None:
+        _malloc_trim(0)
+
+
 class _SupernodalFactor:
     def __init__(self, A, ordering=None):
         self.n = A.shape[0]
         A = _canonical_csr(A)
         C = _to_cvxopt(A) if ordering is None else ordering.lower_triangle(A)
+        release_free_memory()
         cvxopt_cholmod.options["supernodal"] = 2  # always supernodal
         try:
             if ordering is None:

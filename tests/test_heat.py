@@ -163,6 +163,23 @@ def test_backends_agree(backend):
     assert np.allclose(a, b, rtol=1e-8, atol=1e-12)
 
 
+@pytest.mark.skipif(hc.linalg._node_nd is None or hc.linalg.cvxopt is None, reason="needs the scale extra")
+def test_large_mesh_poisson_factor_uses_nested_dissection(monkeypatch):
+    V, F = grid(31, 31)
+    mesh = hc.TriangleMesh(V, F, refine=1)
+    with_amd = hc.HeatSolver(mesh, backend="supernodal").distance([3, 500])
+    monkeypatch.setattr(hc.linalg, "NESTED_DISSECTION_MIN_SIZE", 0)  # as on large meshes
+    mesh = hc.TriangleMesh(V, F, refine=1)
+    solver = hc.HeatSolver(mesh, backend="supernodal")
+    cache = mesh._heatcore_factors
+    nested, quick = cache["nested", "supernodal"], cache["ordering", "supernodal"]
+    assert isinstance(nested, hc.linalg.Ordering) and not np.array_equal(nested.permutation, quick.permutation)
+    assert np.allclose(solver.distance([3, 500]), with_amd, rtol=1e-9, atol=1e-12)
+    # many pins: the pinned Laplacian is ordered by the same nested dissection
+    many = np.arange(0, 961, 3)  # more than MAX_PRECOMPUTED_PINS
+    assert np.allclose(solver.distance(many), hc.HeatSolver(mesh, backend="superlu").distance(many), atol=1e-9)
+
+
 @pytest.mark.parametrize("option", [{"m": 0}, {"m": -1}, {"m": np.nan}, {"boundary": "x"}, {"accuracy": "x"}])
 def test_bad_options_raise(option):
     V, F = grid(5, 5)

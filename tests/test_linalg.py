@@ -43,18 +43,31 @@ def test_supernodal_shares_one_ordering_with_a_principal_submatrix():
     assert np.abs(sub @ x - b).max() < 1e-12
 
 
-@pytest.mark.skipif(linalg.pymetis is None or linalg.cvxopt is None, reason="needs the scale extra")
-def test_nested_dissection_orders_large_matrices_with_less_fill(monkeypatch):
+needs_metis = pytest.mark.skipif(linalg._node_nd is None or linalg.cvxopt is None, reason="needs the scale extra")
+
+
+@needs_metis
+def test_nested_dissection_runs_metis_in_the_background_and_fills_in_less(monkeypatch):
+    import pymetis
     from cvxopt import cholmod
 
     A = heat_matrix(60, 60)
     n = A.shape[0]
-    natural = linalg.Ordering(np.arange(n))
-    amd = linalg.fill_reducing_ordering(A, "supernodal")  # below the size threshold
+    assert linalg.start_nested_dissection(A, "supernodal") is None  # below the size where it pays
     monkeypatch.setattr(linalg, "NESTED_DISSECTION_MIN_SIZE", n)
-    nested = linalg.fill_reducing_ordering(A, "supernodal")
-    assert np.array_equal(np.sort(nested.permutation), np.arange(n))
-    assert not np.array_equal(nested.permutation, amd.permutation)
+    assert linalg.start_nested_dissection(A, "cholmod") is None
+    permutation = linalg.start_nested_dissection(A, "supernodal").result()
+    # the GIL-free call computes what pymetis computes with the same options
+    graph = A.tocsr()
+    graph.setdiag(0)
+    graph.eliminate_zeros()
+    expected = pymetis.nested_dissection(
+        pymetis.CSRAdjacency(graph.indptr, graph.indices), options=pymetis.Options(niter=1, ctype=0, no2hop=1)
+    )[0]
+    assert np.array_equal(permutation, expected)
+
+    amd = linalg.fill_reducing_ordering(A, "supernodal")
+    nested = amd.reordered(permutation)
 
     def factor_entries(ordering):
         f = linalg.factor(A, "supernodal", ordering=ordering)
@@ -64,14 +77,14 @@ def test_nested_dissection_orders_large_matrices_with_less_fill(monkeypatch):
 
     # a 60 x 60 grid: measured 90k stored entries by nested dissection, 99k by AMD, 243k in natural order
     by_amd = factor_entries(amd)
-    assert factor_entries(nested) < 0.95 * by_amd and by_amd < 0.5 * factor_entries(natural)
+    assert factor_entries(nested) < 0.95 * by_amd and by_amd < 0.5 * factor_entries(linalg.Ordering(np.arange(n)))
 
 
-@pytest.mark.skipif(linalg.pymetis is None, reason="needs the scale extra")
-def test_nested_dissection_of_a_graph_with_isolated_vertices():
+@needs_metis
+def test_nested_dissection_of_a_graph_with_isolated_vertices(monkeypatch):
+    monkeypatch.setattr(linalg, "NESTED_DISSECTION_MIN_SIZE", 0)
     A = sp.csr_matrix(sp.block_diag([sp.eye(3), heat_matrix(5, 5), sp.eye(2)]))
-    rows = np.repeat(np.arange(A.shape[0]), np.diff(A.indptr))
-    permutation = linalg.nested_dissection(A.indptr, A.indices, rows)
+    permutation = linalg.start_nested_dissection(A, "supernodal").result()
     assert np.array_equal(np.sort(permutation), np.arange(A.shape[0]))
 
 
