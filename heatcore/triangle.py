@@ -13,6 +13,8 @@ Examples
 (4, 4)
 """
 
+import dataclasses
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -122,7 +124,8 @@ class TriangleMesh(MeshDomain):
         The triangulation the operators are built on (faces index operator vertices).
     subdivision : Subdivision
         The (possibly midpoint-refined) mesh; its first vertices are the input's
-        referenced vertices, in ``vertex_map`` order.
+        referenced vertices, in ``vertex_map`` order. Its ``mesh_edges`` and
+        ``side_edge`` are dropped (None) once the operators are built.
 
     Examples
     --------
@@ -172,6 +175,8 @@ class TriangleMesh(MeshDomain):
         lengths, self.mollification = mollify(edge_lengths[side_edge] / h)
         self.mollification *= h
         tri = IntrinsicTriangulation.from_mesh(None, F, lengths=lengths, side_edge=side_edge)
+        # Only the build needs the refined mesh's edges (1M vertices: 48-96 MB).
+        self.subdivision = dataclasses.replace(sub, mesh_edges=None, side_edge=None)
         self.n_flips = tri.flip_to_delaunay() if self.robust else 0
         tri.lengths *= h
         self.intrinsic = tri
