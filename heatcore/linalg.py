@@ -6,8 +6,9 @@
   ``cvxopt``; the ``scale`` extra): by far the fastest factorization of large
   matrices (800k-vertex mesh: about 2.5 s, against 10 s for
   ``cholmod`` and 21 s for ``qdldl``), and it accepts a fill-reducing ordering
-  computed once (:func:`fill_reducing_ordering`) for every matrix with the
-  same sparsity pattern;
+  computed once (:func:`fill_reducing_ordering`, minimum degree) for every
+  matrix with the same sparsity pattern, or a nested dissection computed in
+  the background (:func:`start_nested_dissection`, METIS) where that pays;
 - ``qdldl`` (simplicial LDL^T with AMD ordering): a fast factorization for
   small and medium meshes (nefertiti, 50k vertices: 0.14 s against 0.30 s for
   ``cholmod``), with slower solves (3.6 ms against 2.8 ms);
