@@ -57,8 +57,9 @@ PYTHONS = ["3.11", "3.13"]
 REQUIREMENTS = ["scipy==1.15.3", "cholespy==2.2.0", "qdldl==0.1.9.post1"]
 #: Groups bundled where wheels exist for the platform and Python (heatcore runs without them):
 #: cvxopt's supernodal CHOLMOD prepares sculpt-sized meshes several times faster (GPL-3, as
-#: Blender itself), and pymetis's nested dissection (with its one dependency) keeps its factors
-#: of meshes from 500k vertices up 15-20% smaller (MIT; no wheel for Windows). None needs numpy.
+#: Blender itself), and pymetis (with its one dependency), whose nested dissection makes the
+#: Poisson factor of meshes from 500k vertices up a third smaller (MIT; no Windows wheel). None
+#: needs numpy.
 OPTIONAL_REQUIREMENTS = [["cvxopt==1.3.3"], ["pymetis==2025.2.2", "typing-extensions==4.16.0"]]
 
 

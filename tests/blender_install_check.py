@@ -49,13 +49,14 @@ def main(zip_path):
         import pymetis
     except ImportError:  # not bundled on this platform
         pymetis = None
-    supernodal = None
+    supernodal, nested = None, False
     if cvxopt is not None:  # the large-mesh backend works inside Blender's Python
         if pymetis is not None:  # with its nested dissection, used here on a small mesh
             hc.linalg.NESTED_DISSECTION_MIN_SIZE = 0
         faces = np.array([p.vertices[:] for p in obj.data.polygons])
         mesh = hc.TriangleMesh(co, faces)
         supernodal = hc.HeatSolver(mesh, backend="supernodal").distance([top]).tolist()
+        nested = isinstance(mesh._heatcore_factors["nested", "supernodal"], hc.linalg.Ordering)
 
     print(
         json.dumps(
@@ -71,6 +72,7 @@ def main(zip_path):
                 "cvxopt_file": getattr(cvxopt, "__file__", None),
                 "pymetis_file": getattr(pymetis, "__file__", None),
                 "supernodal_distance": supernodal,
+                "nested_dissection_used": nested,
                 "operator": sorted(ran),
                 "color_active": obj.data.color_attributes.active_color.name,
                 "n": n,
