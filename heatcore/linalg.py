@@ -42,6 +42,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .errors import SolverError
+from .sparse_rhs import SparseForwardSolver
 
 try:  # pragma: no cover - depends on the platform's wheels
     import cholespy
@@ -69,6 +70,8 @@ log = logging.getLogger(__name__)
 SUPERNODAL_MIN_SIZE = 100_000
 #: From this many unknowns up :func:`start_nested_dissection` orders by METIS (see there).
 NESTED_DISSECTION_MIN_SIZE = 500_000
+#: CHOLMOD's code for the system ``L^T x = b`` (``cholmod.solve``'s ``sys``).
+CHOLMOD_LT = 5
 #: Without the supernodal backend, "auto" prefers ``cholmod`` to ``qdldl`` above this size.
 QDLDL_MAX_SIZE = 300_000
 
@@ -317,6 +320,7 @@ class _SupernodalFactor:
                 cvxopt_cholmod.options["nmethods"] = 1  # the given ordering, no other tried
                 self._factor = cvxopt_cholmod.symbolic(C, p=_cvxopt_indices(ordering.permutation), uplo="L")
             cvxopt_cholmod.numeric(C, self._factor)
+            self._sparse_forward = SparseForwardSolver.from_cvxopt(self._factor, self.n)
         except ArithmeticError as exc:
             raise SolverError(f"sparse Cholesky factorization failed: the matrix is not positive definite ({exc})") from exc
         except ValueError as exc:
@@ -324,6 +328,14 @@ class _SupernodalFactor:
 
     def solve(self, b):
         b = np.asarray(b, dtype=np.float64)
+        if b.ndim == 1 and self._sparse_forward is not None:
+            y = self._sparse_forward.forward(b)  # None unless b is sparse enough to pay
+            if y is not None:  # the backward half, L^T x = y, then x -> P^T x
+                Y = cvxopt.matrix(y)
+                cvxopt_cholmod.solve(self._factor, Y, sys=CHOLMOD_LT)
+                x = np.empty(self.n)
+                x[self._sparse_forward.permutation] = np.asarray(Y).ravel()
+                return x
         B = cvxopt.matrix(np.asfortranarray(b.reshape(self.n, -1)))
         cvxopt_cholmod.solve(self._factor, B)
         return np.array(B).reshape(b.shape)
