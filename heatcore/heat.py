@@ -178,7 +178,7 @@ class HeatSolver:
     def distance_from_pins(self, pins):
         """Distance at every operator vertex for prepared :class:`~heatcore.sources.SourcePins`."""
         u = self.heat(pins.heat)
-        b = self._gradient_transposed @ (self.unit_field(u) * self.ops.volumes[:, None]).ravel()  # = -div X
+        b = self._gradient_transposed @ self._scaled_unit_field(u, self.ops.volumes).ravel()  # = -div X
         reached = None if self.n_components == 1 else np.isin(self.component, self.component[pins.vertices])
         phi = self._pinned_poisson(b, pins, reached)
         phi[pins.vertices] = pins.values
@@ -210,11 +210,15 @@ class HeatSolver:
 
     def unit_field(self, u):
         """``-grad u / |grad u|`` per element, 0 where the gradient vanishes or is not finite."""
+        return self._scaled_unit_field(u, 1.0)
+
+    def _scaled_unit_field(self, u, weights):
+        """``weights`` times :meth:`unit_field` (one pass fewer over the elements than multiplying after)."""
         g = (self.ops.gradient @ u).reshape(-1, self.ops.dim)
-        norm2 = np.einsum("ij,ij->i", g, g)
+        norm2 = _squared_row_norms(g)
         if not np.isfinite(norm2.sum()):  # rare: a non-finite gradient gets no direction
             g = np.where(np.isfinite(g), g, 0.0)
-            norm2 = np.einsum("ij,ij->i", g, g)
+            norm2 = _squared_row_norms(g)
         norm = np.sqrt(norm2)
         # Far from the sources u (and so g) can be 1e-200, whose square
         # underflows: recompute those norms with hypot, which does not.
@@ -224,7 +228,10 @@ class HeatSolver:
             for k in range(2, g.shape[1]):
                 redo = np.hypot(redo, g[tiny, k])
             norm[tiny] = np.where(redo > 0, redo, np.inf)  # a zero gradient gets X = 0
-        return g * (-1.0 / norm)[:, None]
+        scale = np.negative(weights) / norm
+        for column in g.T:  # column by column: 3x faster than broadcasting over rows of 2 or 3
+            column *= scale
+        return g
 
     def _factor_heat(self, backend):
         """Factor ``M + t L`` for the boundary condition (Neumann, interior-only Dirichlet, or both)."""
@@ -279,7 +286,8 @@ class HeatSolver:
         if comps.size == P.size:  # one pin per component: a shift suffices
             shift = np.zeros(self.n_components)
             shift[comp_of_pin] = d - psi[P]
-            return psi + shift[self.component]
+            psi += shift[self.component] if self.n_components > 1 else shift[0]
+            return psi
         k, c = P.size, comps.size
         E = np.zeros((self.ops.n_vertices, k))
         E[P, np.arange(k)] = 1.0
@@ -309,6 +317,14 @@ class HeatSolver:
             ordering = restrict_ordering(self._laplacian_ordering(backend), idx)
             phi[idx] = factor(L[idx][:, idx], backend, ordering=ordering).solve(rhs)
         return phi
+
+
+def _squared_row_norms(g):
+    """``(g**2).sum(axis=1)`` for a few columns, column by column (twice as fast as over rows)."""
+    norm2 = g[:, 0] * g[:, 0]
+    for column in g.T[1:]:
+        norm2 += column * column
+    return norm2
 
 
 def _grounded(L, ground):
