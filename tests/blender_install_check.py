@@ -49,13 +49,15 @@ def main(zip_path):
         import pymetis
     except ImportError:  # not bundled on this platform
         pymetis = None
-    supernodal, nested = None, False
+    supernodal, nested, sparse_forward = None, False, False
     if cvxopt is not None:  # the large-mesh backend works inside Blender's Python
         if pymetis is not None:  # with its nested dissection, used here on a small mesh
             hc.linalg.NESTED_DISSECTION_MIN_SIZE = 0
         faces = np.array([p.vertices[:] for p in obj.data.polygons])
         mesh = hc.TriangleMesh(co, faces)
-        supernodal = hc.HeatSolver(mesh, backend="supernodal").distance([top]).tolist()
+        solver = hc.HeatSolver(mesh, backend="supernodal")
+        supernodal = solver.distance([top]).tolist()
+        sparse_forward = solver._heat_neumann._sparse_forward is not None  # the bundled CHOLMOD's layout was read
         nested = isinstance(mesh._heatcore_factors["nested", "supernodal"], hc.linalg.Ordering)
 
     print(
@@ -73,6 +75,7 @@ def main(zip_path):
                 "pymetis_file": getattr(pymetis, "__file__", None),
                 "supernodal_distance": supernodal,
                 "nested_dissection_used": nested,
+                "sparse_forward_used": sparse_forward,
                 "operator": sorted(ran),
                 "color_active": obj.data.color_attributes.active_color.name,
                 "n": n,

@@ -446,6 +446,7 @@ def test_extension_zip_installs_and_runs(tmp_path):
     if platform in ("linux-x64", "windows-x64"):  # where cvxopt has wheels: bundled, and it runs
         assert Path(out["cvxopt_file"]).resolve().is_relative_to(installed)
         assert mean_relative_error(np.array(out["supernodal_distance"]), exact) < 0.02
+        assert out["sparse_forward_used"]
     if platform in ("linux-x64", "macos-x64", "macos-arm64"):  # where pymetis has wheels
         assert Path(out["pymetis_file"]).resolve().is_relative_to(installed)
     if platform == "linux-x64":  # both: the Poisson factor was ordered by METIS inside Blender
