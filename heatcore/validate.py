@@ -36,7 +36,18 @@ def vertex_array(V, name="V"):
 
 
 def index_array(A, n_vertices, columns, element="face", name="F"):
-    """Element indices as an ``(m, columns)`` int64 array, each in ``[0, n_vertices)``."""
+    """Element indices as an ``(m, columns)`` int64 array, each in ``[0, n_vertices)``.
+
+    An index out of range is reported as given (a ``uint64`` ``2**64 - 1`` is
+    not shown as ``-1``).
+
+    Examples
+    --------
+    >>> index_array(np.array([[0, 1, 2**64 - 1]], dtype=np.uint64), 3, 3)
+    Traceback (most recent call last):
+    ...
+    heatcore.errors.InvalidMeshError: face 0 references vertex 18446744073709551615 but the mesh has 3 vertices (valid indices are 0..2)
+    """
     try:
         A = np.asarray(A)
     except ValueError as exc:  # ragged nested lists
@@ -50,15 +61,14 @@ def index_array(A, n_vertices, columns, element="face", name="F"):
     if not np.issubdtype(A.dtype, np.integer):
         if not np.issubdtype(A.dtype, np.floating) or not np.all(np.isfinite(A)) or np.any(A != np.round(A)):
             raise InvalidMeshError(f"{name} must hold integer vertex indices, got dtype {A.dtype}")
-    A = A.astype(np.int64)
-    bad = (A < 0) | (A >= n_vertices)
+    bad = (A < 0) | (A >= n_vertices)  # before the cast: uint64 and large floats would wrap around
     if bad.any():
         row, col = np.argwhere(bad)[0]
         raise InvalidMeshError(
-            f"{element} {row} references vertex {A[row, col]} but the mesh has {n_vertices} vertices "
+            f"{element} {row} references vertex {int(A[row, col])} but the mesh has {n_vertices} vertices "
             f"(valid indices are 0..{n_vertices - 1})"
         )
-    return A
+    return A.astype(np.int64)
 
 
 def mesh_arrays(V, F):
