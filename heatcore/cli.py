@@ -7,9 +7,14 @@ in :data:`SOLVER_OPTIONS` and routed to :class:`~heatcore.TriangleMesh` or
 :class:`~heatcore.HeatSolver`; a new solver option is one more entry there.
 
 Progress and timings go to stderr (``--quiet`` silences them); results and
-the paths written go to stdout. User errors (bad files, bad options, bad
-sources) end with exit status 1 and one line ``heatcore: error: ...``;
-argparse usage errors with status 2.
+the paths written go to stdout. Every error is one line on stderr. Exit
+status 2: the command line itself is wrong, found before any file is read
+(``heatcore distance: error: ...`` for an option value, such as a source
+index no mesh can have; ``heatcore: error: ...`` for output names: an
+unknown extension, a ``--png`` not named ``.png``, an output that is an
+input without ``--overwrite``). Exit status 1: a file is (bad mesh, bad
+sources file, a source beyond the mesh's vertices, a missing output folder).
+Outputs are written atomically (:mod:`heatcore.outputs`).
 
 Examples
 --------
@@ -31,6 +36,18 @@ from typing import Callable, NamedTuple
 import numpy as np
 
 from .errors import HeatcoreError, HeatcoreWarning
+from .io import short
+from .outputs import (  # noqa: F401 (check_outputs_fit, OUTPUT_SUFFIXES: part of this module's API)
+    OUTPUT_SUFFIXES,
+    PNG_ISOLINES,
+    VOLUME_OUTPUT_SUFFIXES,
+    CliError,
+    UsageError,
+    check_output_paths,
+    check_outputs_fit,
+    render_png,
+    write_output,
+)
 
 log = logging.getLogger("heatcore.cli")
 
@@ -38,14 +55,8 @@ log = logging.getLogger("heatcore.cli")
 DEMO_SOURCE = 1453
 #: Camera of the demo picture: spot faces -z with y up; a three-quarter front view.
 DEMO_VIEW = {"elevation": 15.0, "azimuth": 150.0, "up": "y"}
-#: Isolines in the PNG when ``--isolines`` is not given.
-PNG_ISOLINES = 12
-OUTPUT_SUFFIXES = (".ply", ".npy", ".csv", ".vtu", ".vtk", ".msh")
-VOLUME_OUTPUT_SUFFIXES = (".vtu", ".vtk", ".msh")
-
-
-class CliError(HeatcoreError):
-    """A command-line input is unusable (sources file, output path, ...)."""
+#: Largest vertex index a source may have (indices are int64).
+MAX_INDEX = np.iinfo(np.int64).max
 
 
 # --------------------------------------------------------------------------- options
@@ -70,6 +81,18 @@ def _refine_levels(text):
         raise argparse.ArgumentTypeError(f"must be 'auto' or an integer 0..8, got {text!r}") from None
     if not 0 <= value <= 8:
         raise argparse.ArgumentTypeError(f"must be 'auto' or an integer 0..8, got {text!r}")
+    return value
+
+
+def _vertex_index(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a vertex index: {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"vertex indices are 0-based, got {text}")
+    if value > MAX_INDEX:
+        raise argparse.ArgumentTypeError(f"vertex index {text} is too large for any mesh (at most {MAX_INDEX})")
     return value
 
 
@@ -212,9 +235,13 @@ def read_sources_file(path):
     for lineno, line in enumerate(text.splitlines(), 1):
         for token in line.split("#", 1)[0].replace(",", " ").split():
             try:
-                indices.append(int(token))
+                value = int(token)
             except ValueError:
-                raise CliError(f"{path}, line {lineno}: {token!r} is not a vertex index") from None
+                raise CliError(f"{path}, line {lineno}: {short(repr(token), 60)} is not a vertex index") from None
+            if not 0 <= value <= MAX_INDEX:
+                raise CliError(f"{path}, line {lineno}: {short(token, 60)} is not a vertex index "
+                               f"(0-based, at most {MAX_INDEX})")
+            indices.append(value)
     if not indices:
         raise CliError(f"sources file {path} holds no vertex indices")
     return indices
@@ -246,60 +273,24 @@ def check_sources(sources, n_vertices):
         )
 
 
-def check_writable(paths):
-    """Fail before the precomputation when an output folder does not exist."""
-    for path in paths:
-        parent = Path(path).parent
-        if not parent.is_dir():
-            raise CliError(f"cannot write {path}: folder {parent} does not exist")
-
-
-def gather_sources(args, mesh):
-    """Sources from --source and --sources-file, else the mesh file's saved selection."""
+def command_line_sources(args):
+    """Sources from --source and --sources-file (read before the mesh), or None."""
     sources = list(args.source or [])
     for path in args.sources_file or []:
         sources += read_sources_file(path)
-    if sources:
-        return np.unique(np.asarray(sources, dtype=np.int64)), "command line"
+    return np.unique(np.asarray(sources, dtype=np.int64)) if sources else None
+
+
+def gather_sources(args, mesh, given=None):
+    """Sources from the command line (``given``), else the mesh file's saved selection."""
+    if given is not None:
+        return given, "command line"
     selected = mesh.selected_vertices()
     if selected.size:
         return selected, f"the selection saved in {args.mesh.name}"
     raise CliError(
         "no sources: give --source INDEX or --sources-file FILE, "
         "or a PLY with selected vertices (MeshLab: save with the vertex flags)"
-    )
-
-
-def write_output(path, V, F, d, sources, colormap, isolines):
-    """Write distances by extension: .ply (quality + colors + selection), .npy, .csv, or
-    .vtu/.vtk/.msh (``F`` the tets; a point-data field ``distance``)."""
-    from .colormap import colorize, to_uint8
-
-    path = Path(path)
-    suffix = path.suffix.lower()
-    if suffix == ".ply":
-        from .io import write_ply
-
-        write_ply(path, V, F, d, to_uint8(colorize(d, colormap, isolines=isolines or 0)), selection=sources)
-    elif suffix in VOLUME_OUTPUT_SUFFIXES:
-        from .tet_io import write_tet_distance
-
-        write_tet_distance(path, V, F, d)
-    elif suffix == ".npy":
-        np.save(path, d)
-    elif suffix == ".csv":
-        table = np.column_stack([np.arange(len(d)), d])
-        np.savetxt(path, table, fmt=["%d", "%.17g"], delimiter=",", header="index,distance", comments="")
-    else:
-        raise CliError(f"output {path}: unknown extension {path.suffix!r}; use one of {', '.join(OUTPUT_SUFFIXES)}")
-
-
-def render_png(path, V, F, d, sources, colormap, isolines, title=None, view=None):
-    from .render import render_distance
-
-    render_distance(
-        path, V, F, d, sources=sources, colormap=colormap,
-        isolines=PNG_ISOLINES if isolines is None else isolines, title=title, **(view or {}),
     )
 
 
@@ -324,7 +315,7 @@ def _distance_arguments(p):
                         "faces, triangles otherwise), or force one; 'polygon' keeps quads and n-gons "
                         "(virtual refinement) instead of triangulating them (default: %(default)s)")
     src = p.add_argument_group("sources (combined; default: the PLY's selected vertices)")
-    src.add_argument("-s", "--source", type=int, action="append", metavar="INDEX",
+    src.add_argument("-s", "--source", type=_vertex_index, action="append", metavar="INDEX",
                      help="source vertex index (0-based); repeat for several sources")
     src.add_argument("--sources-file", type=Path, action="append", metavar="FILE",
                      help="text file of 0-based vertex indices separated by whitespace or commas "
@@ -332,8 +323,13 @@ def _distance_arguments(p):
     p.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
                    help="output file, format by extension: .ply (quality + colors), .npy, .csv "
                         "(index,distance), or for tetrahedral meshes .vtu/.vtk/.msh (point-data field "
-                        "'distance'); repeat for several")
-    add_output_options(p, png_help="also write a PNG picture of the distance field (matplotlib)")
+                        "'distance'); repeat for several. Outputs are written whole or not at all "
+                        "(a temporary file, then renamed)")
+    p.add_argument("--overwrite", action="store_true",
+                   help="allow an output to replace an input file (the mesh or a sources file); "
+                        "the input's other vertex properties are not kept")
+    add_output_options(p, png_help="also write a PNG picture of the distance field (matplotlib); "
+                                   "a name ending in .png")
     add_solver_options(p)
     add_common_options(p)
 
@@ -350,17 +346,15 @@ def _distance_arguments(p):
 )
 def run_distance(args):
     if not args.output and args.png is None:
-        raise CliError("nothing to write: give -o/--output FILE (.ply, .npy, .csv) and/or --png PATH")
-    for out in args.output:
-        if Path(out).suffix.lower() not in OUTPUT_SUFFIXES:
-            raise CliError(f"output {out}: unknown extension; use one of {', '.join(OUTPUT_SUFFIXES)}")
-    check_writable(args.output + ([args.png] if args.png is not None else []))
+        raise UsageError("nothing to write: give -o/--output FILE (.ply, .npy, .csv) and/or --png PATH")
+    check_output_paths(args.output, args.png, [args.mesh, *(args.sources_file or [])], args.overwrite)
+    given = command_line_sources(args)
     with _stage("read mesh"):
         mesh = read_mesh_file(args.mesh, args.domain)
-    check_outputs_fit(args, mesh.kind)
+    check_outputs_fit(args.output, args.png, mesh.kind)
     log.info("%s: %d vertices", {"points": "point cloud", "tet": "tetrahedral mesh"}.get(mesh.kind, f"{mesh.kind} mesh"),
              len(mesh.vertices))
-    sources, origin = gather_sources(args, mesh)
+    sources, origin = gather_sources(args, mesh, given)
     check_sources(sources, len(mesh.vertices))
     log.info("sources: %d from %s", sources.size, origin)
     solver = build_solver(mesh, args)
@@ -380,18 +374,6 @@ def run_distance(args):
                        title=args.mesh.name)
         print(f"wrote {args.png}")
     return 0
-
-
-def check_outputs_fit(args, kind):
-    """Refuse outputs that cannot hold this kind of domain, before the precompute."""
-    for out in args.output:
-        volume = Path(out).suffix.lower() in VOLUME_OUTPUT_SUFFIXES
-        if volume and kind != "tet":
-            raise CliError(f"output {out}: .vtu/.vtk/.msh outputs are for tetrahedral meshes; use .ply, .npy or .csv")
-        if kind == "tet" and Path(out).suffix.lower() == ".ply":
-            raise CliError(f"output {out}: a tetrahedral mesh is written as .vtu, .vtk or .msh (or .npy/.csv)")
-    if kind == "points" and args.png is not None:
-        raise CliError("--png draws surfaces; a point cloud has none (write .ply, .npy or .csv)")
 
 
 # --------------------------------------------------------------------------- demo
@@ -532,10 +514,17 @@ def run_batch_command(args):
 # --------------------------------------------------------------------------- main
 
 
+class _Parser(argparse.ArgumentParser):
+    """Usage errors as one line (``heatcore distance: error: ...``), exit status 2."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {short(message, 400)} (see '{self.prog} --help')\n")
+
+
 def build_parser():
     from . import __version__
 
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="heatcore",
         description="Geodesic distance on meshes by heat flow (Crane, Weischedel, Wardetzky 2013). "
         "Run 'heatcore COMMAND --help' for the options of a command.",
@@ -593,8 +582,8 @@ def main(argv=None):
         message = str(exc)
         if isinstance(exc, OSError) and exc.filename is not None:
             message = f"{exc.filename}: {exc.strerror or exc}"
-        sys.stderr.write(f"heatcore: error: {message}\n")
-        return 1
+        sys.stderr.write(f"heatcore: error: {short(message, 600)}\n")
+        return getattr(exc, "exit_status", 1)
     except KeyboardInterrupt:
         sys.stderr.write("heatcore: interrupted\n")
         return 130

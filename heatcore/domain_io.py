@@ -90,9 +90,10 @@ def read_domain(path, kind="auto"):
     """
     if kind not in DOMAIN_KINDS:
         raise InvalidOptionError(f"domain kind must be one of {DOMAIN_KINDS}, got {kind!r}")
+    from .io import check_not_empty
+
     path = Path(path)
-    if not path.is_file():
-        raise InvalidMeshError(f"mesh file not found: {path}")
+    check_not_empty(path)
     suffix = path.suffix.lower()
     if kind == "tet" or (kind == "auto" and suffix in VOLUME_SUFFIXES):
         from .tet_io import read_tet_mesh
@@ -116,7 +117,9 @@ def read_domain(path, kind="auto"):
     try:
         mesh = read_mesh(path)
     except NoFacesError:
-        if kind == "auto":  # a file of vertices only: a point cloud
+        from .pointcloud_io import POINT_CLOUD_SUFFIXES
+
+        if kind == "auto" and suffix in POINT_CLOUD_SUFFIXES:  # a file of vertices only: a point cloud
             return _points(path)
         raise
     return DomainFile("triangle", mesh.vertices, mesh.faces, mesh.faces, mesh.selected_vertices())

@@ -3,7 +3,14 @@
 meshio reads and writes PLY (keeping extra vertex properties such as
 MeshLab's selection flags and quality) and volume formats; trimesh reads OBJ
 (meshio's OBJ reader rejects files with texture coordinates), OFF, STL and
-glTF without reordering vertices.
+glTF without reordering vertices. PLY files of triangle strips
+(``element tristrips``, strips separated by ``-1``, as in the Stanford
+scans) are read by pymeshlab, which meshio cannot do; pymeshlab is imported
+only then (see the design notes on import order with ``bpy``).
+
+A file that cannot be read gives one :class:`~heatcore.errors.InvalidMeshError`
+saying why (an empty file, a PLY without vertices, the reader's own words cut
+to :data:`MAX_DETAIL` characters), never the reader's printout.
 
 Examples
 --------
@@ -24,6 +31,78 @@ from .errors import InvalidMeshError, NoFacesError
 MESHLAB_SELECTED_FLAG = 0x20
 
 TRIMESH_SUFFIXES = {".obj", ".off", ".stl", ".glb", ".gltf"}
+
+#: Longest reader message kept in an error (some readers quote whole files).
+MAX_DETAIL = 300
+#: A PLY header longer than this is not a header.
+MAX_PLY_HEADER = 1 << 20
+
+
+def short(text, limit=MAX_DETAIL):
+    """``text`` on one line, at most ``limit`` characters (a reader's message inside one of ours).
+
+    Examples
+    --------
+    >>> short("line one\\n   line two")
+    'line one line two'
+    >>> len(short("x" * 5000))
+    300
+    """
+    text = " ".join(str(text).split())
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def check_not_empty(path):
+    """Raise :class:`InvalidMeshError` when ``path`` is missing or holds 0 bytes."""
+    path = Path(path)
+    if not path.is_file():
+        raise InvalidMeshError(f"mesh file not found: {path}")
+    if path.stat().st_size == 0:
+        raise InvalidMeshError(f"{path} is empty (0 bytes)")
+
+
+def ply_elements(path):
+    """Element names and counts declared by a PLY header, in order.
+
+    Parameters
+    ----------
+    path : str or path-like
+
+    Returns
+    -------
+    dict
+        ``{name: count}``, e.g. ``{"vertex": 8, "face": 12}``.
+
+    Raises
+    ------
+    InvalidMeshError
+        Not a PLY file, or a header without ``end_header``.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "h.ply"
+    >>> _ = path.write_text("ply\\nformat ascii 1.0\\nelement vertex 0\\nproperty float x\\nend_header\\n")
+    >>> ply_elements(path)
+    {'vertex': 0}
+    """
+    path = Path(path)
+    with open(path, "rb") as f:
+        head = f.read(MAX_PLY_HEADER)
+    lines = head.split(b"\n")
+    if lines[0].strip() != b"ply":
+        raise InvalidMeshError(f"{path} is not a PLY file (it does not start with 'ply')")
+    elements = {}
+    for line in lines[1:-1]:
+        words = line.split()
+        if words[:1] == [b"end_header"]:
+            return elements
+        if words[:1] == [b"element"] and len(words) == 3:
+            try:
+                elements[words[1].decode("ascii", "replace")] = int(words[2])
+            except ValueError:
+                raise InvalidMeshError(f"{path}: bad PLY header line {short(line.decode('ascii', 'replace'))!r}") from None
+    raise InvalidMeshError(f"{path}: the PLY header has no end_header line (a truncated file?)")
 
 
 @dataclass
@@ -73,16 +152,18 @@ def read_mesh(path):
     SurfaceMesh
     """
     path = Path(path)
-    if not path.is_file():
-        raise InvalidMeshError(f"mesh file not found: {path}")
+    check_not_empty(path)
+    suffix = path.suffix.lower()
     try:
-        if path.suffix.lower() in TRIMESH_SUFFIXES:
+        if suffix in TRIMESH_SUFFIXES:
             return _read_trimesh(path)
+        if suffix == ".ply":
+            return _read_ply(path)
         return _read_meshio(path)
     except InvalidMeshError:
         raise
     except (Exception, SystemExit) as exc:  # readers raise many types; meshio may even exit
-        raise InvalidMeshError(f"cannot read mesh file {path}: {exc}") from exc
+        raise InvalidMeshError(f"cannot read mesh file {path}: {short(exc) or type(exc).__name__}") from exc
 
 
 def _read_trimesh(path):
@@ -94,14 +175,61 @@ def _read_trimesh(path):
     return SurfaceMesh(np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces, dtype=np.int64))
 
 
+def _read_ply(path):
+    elements = ply_elements(path)
+    if not elements.get("vertex"):
+        declared = "no vertex element" if "vertex" not in elements else "element vertex 0"
+        raise InvalidMeshError(f"{path} holds no vertices (its PLY header declares {declared})")
+    if elements.get("tristrips"):
+        return _read_pymeshlab(path, "it stores triangle strips (element tristrips)")
+    if not elements.get("face"):
+        raise NoFacesError(f"{path} holds no faces")
+    import meshio.ply
+
+    try:
+        return _surface(meshio.ply.read(str(path)), path)
+    except NoFacesError:
+        raise
+    except Exception as exc:  # a file meshio does not parse: pymeshlab (VCG) may, or says why not
+        return _read_pymeshlab(path, f"meshio: {short(exc, 120) or type(exc).__name__}")
+
+
+def _read_pymeshlab(path, why):
+    """Read a PLY with pymeshlab; ``why`` says why meshio was not used (in the error if this fails too)."""
+    try:
+        import pymeshlab
+    except ImportError:
+        raise InvalidMeshError(f"cannot read mesh file {path}: {why}; pymeshlab may read it: pip install pymeshlab") from None
+    ms = pymeshlab.MeshSet()
+    try:
+        ms.load_new_mesh(str(path))
+    except pymeshlab.PyMeshLabException as exc:
+        detail = str(exc).rsplit("Error details:", 1)[-1]
+        raise InvalidMeshError(f"cannot read mesh file {path}: {short(detail, 120)} ({why})") from None
+    m = ms.current_mesh()
+    V, F = np.asarray(m.vertex_matrix(), dtype=float), np.asarray(m.face_matrix(), dtype=np.int64)
+    if len(F) == 0:
+        raise NoFacesError(f"{path} holds no faces")
+    flags = np.where(np.asarray(m.vertex_selection_array(), dtype=bool), MESHLAB_SELECTED_FLAG, 0)
+    return SurfaceMesh(V, F, {"flags": flags} if flags.any() else {})
+
+
 def _read_meshio(path):
     import contextlib
     import io
 
     import meshio
 
-    with contextlib.redirect_stdout(io.StringIO()):  # meshio prints its own errors
-        mesh = meshio.read(str(path))
+    chatter = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(chatter):  # meshio prints its own errors, then exits
+            mesh = meshio.read(str(path))
+    except SystemExit:
+        raise InvalidMeshError(f"cannot read mesh file {path}: {short(chatter.getvalue()) or 'no reader accepts it'}") from None
+    return _surface(mesh, path)
+
+
+def _surface(mesh, path):
     faces = []
     for block in mesh.cells:
         data = np.asarray(block.data, dtype=np.int64)

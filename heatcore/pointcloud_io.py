@@ -85,7 +85,9 @@ def read_point_cloud(path):
     except InvalidMeshError:
         raise
     except (Exception, SystemExit) as exc:  # readers raise many types; meshio may even exit
-        raise InvalidMeshError(f"cannot read point cloud file {path}: {exc}") from exc
+        from .io import short
+
+        raise InvalidMeshError(f"cannot read point cloud file {path}: {short(exc) or type(exc).__name__}") from exc
     if cloud.points.shape[0] == 0:
         raise InvalidMeshError(f"{path} holds no points")
     return cloud

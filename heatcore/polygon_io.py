@@ -33,6 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InvalidMeshError
+from .io import short
 
 
 @dataclass
@@ -94,7 +95,7 @@ def read_polygon_mesh(path):
             errors.append(f"{reader.__name__[6:]} not installed ({exc})")
             continue
         except (Exception, SystemExit) as exc:  # readers raise many types; meshio may even exit
-            errors.append(f"{reader.__name__[6:]}: {exc}")
+            errors.append(f"{reader.__name__[6:]}: {short(exc, 150) or type(exc).__name__}")
             continue
         if offsets.size < 2:
             errors.append(f"{reader.__name__[6:]}: no polygons")

@@ -77,7 +77,9 @@ def read_tet_mesh(path):
         with contextlib.redirect_stdout(io.StringIO()):  # meshio prints its own errors
             mesh = meshio.read(str(path), file_format=fmt)
     except (Exception, SystemExit) as exc:  # readers raise many types; meshio may even exit
-        raise InvalidMeshError(f"cannot read tet mesh file {path}: {exc}") from exc
+        from .io import short
+
+        raise InvalidMeshError(f"cannot read tet mesh file {path}: {short(exc) or type(exc).__name__}") from exc
     blocks = [b for b in mesh.cells if b.type in TET_CELL_TYPES]
     if not blocks:
         kinds = sorted({b.type for b in mesh.cells}) or ["none"]
