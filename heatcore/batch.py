@@ -48,212 +48,48 @@ Examples
 ('ok', (2, 2930))
 """
 
-import csv
+import logging
 import os
-import re
 import sys
 import time
-import traceback
-import uuid
-from concurrent.futures import ProcessPoolExecutor, as_completed
-from dataclasses import dataclass, field
-from glob import glob
 from pathlib import Path
 
 import numpy as np
 
-from .errors import HeatcoreError, InvalidOptionError, InvalidSourceError
+from .batch_runners import error_message, run_dask, run_pool
+from .batch_spec import (  # noqa: F401 - re-exported
+    DEFAULT_MAX_MEMORY_MB,
+    MESH_SUFFIXES,
+    BatchError,
+    MeshTask,
+    SourceSpec,
+    find_inputs,
+    output_path,
+    parse_sources,
+)
+from .batch_storage import (  # noqa: F401 - re-exported: the public reading API lives here too
+    SUMMARY_FIELDS,
+    SUMMARY_NAME,
+    BlockWriter,
+    check_result,
+    clean_temporaries,
+    discard_blocks,
+    discard_result,
+    iter_blocks,
+    key_digest,
+    load_distances,
+    load_key,
+    load_sources,
+    result_key,
+    sources_file_path,
+    write_index,
+    write_summary,
+)
+from .errors import InvalidSourceError
 
-#: Extensions a folder input picks up (what :func:`heatcore.domain_io.read_domain` reads).
-MESH_SUFFIXES = (".ply", ".obj", ".off", ".stl", ".glb", ".gltf", ".msh", ".vtu", ".vtk", ".mesh", ".xyz")
-SUMMARY_NAME = "summary.csv"
-SUMMARY_FIELDS = ("file", "vertices", "sources", "seconds", "status", "error")
-DEFAULT_MAX_MEMORY_MB = 1024.0
+log = logging.getLogger("heatcore.batch")
+
 _BYTES_PER_VALUE = 8  # float64 distances
-
-
-class BatchError(HeatcoreError):
-    """A batch cannot start: bad inputs, source specification or options."""
-
-
-# --------------------------------------------------------------------------- specification
-
-
-@dataclass(frozen=True)
-class SourceSpec:
-    """Which sources to use on every mesh of a batch.
-
-    Attributes
-    ----------
-    mode : {"indices", "all", "farthest", "file"}
-    indices : tuple of int
-        Vertex indices (mode "indices").
-    k : int
-        Number of samples (mode "farthest").
-    suffix : str
-        Sources file suffix replacing the mesh extension (mode "file").
-    union : bool
-        One distance row to the union of the sources instead of one row per source
-        (modes "indices" and "file").
-    """
-
-    mode: str
-    indices: tuple = ()
-    k: int = 0
-    suffix: str = ""
-    union: bool = False
-
-    def __str__(self):
-        if self.mode == "indices":
-            text = ",".join(map(str, self.indices))
-        elif self.mode == "farthest":
-            text = f"farthest:{self.k}"
-        elif self.mode == "file":
-            text = f"file:{self.suffix}"
-        else:
-            text = self.mode
-        return text + (" (union)" if self.union else "")
-
-
-def parse_sources(text=None, *, suffix=None, union=False):
-    """Parse a source specification.
-
-    Parameters
-    ----------
-    text : str, optional
-        ``"0,17"`` (vertex indices), ``"all"`` or ``"farthest:K"``.
-    suffix : str, optional
-        Per-mesh sources file suffix (``".sources.txt"``): ``mesh.obj`` reads
-        ``mesh.sources.txt``. Give either ``text`` or ``suffix``.
-    union : bool, default False
-        One row: the distance to the union of the sources.
-
-    Returns
-    -------
-    SourceSpec
-
-    Raises
-    ------
-    BatchError
-        Unreadable specification, or both/neither of ``text`` and ``suffix``.
-
-    Examples
-    --------
-    >>> parse_sources("farthest:8").k
-    8
-    >>> parse_sources("0, 17").indices
-    (0, 17)
-    """
-    if (text is None) == (suffix is None):
-        raise BatchError("give exactly one source specification: --sources (indices, 'all', 'farthest:K') "
-                         "or --sources-file-suffix")
-    if suffix is not None:
-        if not suffix or "/" in suffix or os.sep in suffix:
-            raise BatchError(f"sources file suffix must be a file name ending such as '.sources.txt', got {suffix!r}")
-        return SourceSpec("file", suffix=suffix, union=union)
-    text = text.strip()
-    if text.lower() == "all":
-        if union:
-            raise BatchError("--union with 'all' would pin every vertex: use vertex indices or a sources file")
-        return SourceSpec("all")
-    match = re.fullmatch(r"farthest:(\d+)", text, flags=re.IGNORECASE)
-    if match:
-        k = int(match.group(1))
-        if k < 1:
-            raise BatchError("farthest:K needs K >= 1")
-        if union:
-            raise BatchError("--union does not apply to farthest:K")
-        return SourceSpec("farthest", k=k)
-    try:
-        indices = tuple(int(tok) for tok in text.replace(",", " ").split())
-    except ValueError:
-        raise BatchError(f"cannot read sources {text!r}: give vertex indices ('0,17'), 'all' or 'farthest:K'") from None
-    if not indices:
-        raise BatchError("no sources given")
-    if min(indices) < 0:
-        raise BatchError(f"source vertex {min(indices)} is negative: vertex indices are 0-based")
-    return SourceSpec("indices", indices=tuple(dict.fromkeys(indices)), union=union)
-
-
-@dataclass(frozen=True)
-class MeshTask:
-    """Everything one worker needs for one mesh (picklable)."""
-
-    path: str
-    output_dir: str
-    spec: SourceSpec
-    max_memory_mb: float = DEFAULT_MAX_MEMORY_MB
-    kind: str = "auto"
-    mesh_options: dict = field(default_factory=dict)
-    solver_options: dict = field(default_factory=dict)
-
-
-# --------------------------------------------------------------------------- paths
-
-
-def find_inputs(inputs):
-    """Mesh files from folders, glob patterns and file paths, sorted and unique.
-
-    Folders contribute their files with a mesh extension (:data:`MESH_SUFFIXES`,
-    not recursive); patterns are expanded with :func:`glob.glob` (``**``
-    allowed).
-
-    Raises
-    ------
-    BatchError
-        An input matches nothing, or two inputs would write the same output name.
-    """
-    if isinstance(inputs, (str, os.PathLike)):
-        inputs = [inputs]
-    found = []
-    for item in inputs:
-        path = Path(item)
-        if path.is_dir():
-            found += [p for p in sorted(path.iterdir()) if p.is_file() and p.suffix.lower() in MESH_SUFFIXES]
-        elif path.is_file():
-            found.append(path)
-        else:
-            matches = [Path(p) for p in sorted(glob(str(item), recursive=True)) if Path(p).is_file()]
-            if not matches:
-                raise BatchError(f"input {item}: no such file or folder, and no file matches it as a pattern")
-            found += matches
-    unique = list(dict.fromkeys(p.resolve() for p in found))
-    if not unique:
-        raise BatchError(f"no mesh files ({', '.join(MESH_SUFFIXES)}) in {', '.join(map(str, inputs))}")
-    names = {}
-    for p in unique:
-        other = names.setdefault(p.stem, p)
-        if other != p:
-            raise BatchError(f"{other} and {p} would both write {p.stem}.npz: rename one or run them separately")
-    return unique
-
-
-def output_path(output_dir, mesh_path):
-    """The result index ``OUTPUT_DIR/NAME.npz`` of mesh ``NAME.EXT``."""
-    return Path(output_dir) / f"{Path(mesh_path).stem}.npz"
-
-
-def sources_file_path(mesh_path, suffix):
-    """The sources file of a mesh: ``bunny.obj`` with suffix ``.sources.txt`` gives ``bunny.sources.txt``."""
-    mesh_path = Path(mesh_path)
-    return mesh_path.with_name(mesh_path.stem + suffix)
-
-
-def _temporary(path):
-    path = Path(path)
-    return path.with_name(f".{path.name}.tmp-{os.getpid()}-{uuid.uuid4().hex[:8]}")
-
-
-def _save_atomic(path, save):
-    """Call ``save(file_object)`` on a temporary file next to ``path``, then rename it to ``path``."""
-    tmp = _temporary(path)
-    try:
-        with open(tmp, "wb") as fh:
-            save(fh)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
 
 
 # --------------------------------------------------------------------------- one mesh
@@ -351,19 +187,11 @@ def process_mesh(task):
             row.update(_process(task))
         row["status"] = "ok"
     except Exception as exc:  # noqa: BLE001 - a bad mesh must not stop the batch
-        row["error"] = _message(exc)
+        row["error"] = error_message(exc)
     finally:
         quiet.setLevel(level)
     row["seconds"] = f"{time.perf_counter() - start:.3f}"
     return row
-
-
-def _message(exc):
-    if isinstance(exc, HeatcoreError):
-        return str(exc)
-    frame = traceback.extract_tb(exc.__traceback__)[-1] if exc.__traceback__ else None
-    where = f" (at {Path(frame.filename).name}:{frame.lineno})" if frame else ""
-    return f"{type(exc).__name__}: {exc}{where}"
 
 
 def _process(task):
@@ -372,7 +200,12 @@ def _process(task):
 
     spec = task.spec
     out = output_path(task.output_dir, task.path)
+    before = os.stat(task.path)
+    key = result_key(task.path, spec, task.kind, task.mesh_options, task.solver_options)
     mesh = read_mesh_file(task.path, task.kind)
+    after = os.stat(task.path)
+    if (before.st_size, before.st_mtime_ns) != (after.st_size, after.st_mtime_ns):
+        raise BatchError(f"mesh file {task.path} changed while it was read: run the batch again")
     n = len(mesh.vertices)
     rows_per_block = block_rows(n, task.max_memory_mb)  # fail early, before the factorization
     if spec.mode == "indices":
@@ -393,10 +226,11 @@ def _process(task):
 
     if spec.union:
         distances = solver.distance(sources)[None, :]
-        _write_index(out, sources, n, spec, distances=distances)
+        write_index(out, sources, n, spec, key, distances=distances)
+        discard_blocks(out.with_suffix(".blocks"))  # blocks of an earlier key or layout
         return {"vertices": n, "sources": int(sources.size)}
 
-    writer = _BlockWriter(out, n, rows_per_block, total=spec.k if sources is None else sources.size)
+    writer = BlockWriter(out, n, rows_per_block, spec.k if sources is None else sources.size, key)
     if spec.mode == "farthest":
         domain = solver.domain
         usable = np.asarray(domain.output_vertices) >= 0 if hasattr(domain, "output_vertices") else None
@@ -412,114 +246,6 @@ def _process(task):
             writer.add(d)
     writer.finish(sources, spec)
     return {"vertices": n, "sources": int(sources.size)}
-
-
-class _BlockWriter:
-    """Collect distance rows; one in-memory array if they all fit, else one ``.npy`` per block.
-
-    The block buffer holds at most ``rows_per_block`` rows (the memory bound).
-    Block files are written atomically as they fill; with known sources a
-    rerun reuses complete block files of the same layout (resume inside a mesh).
-    """
-
-    def __init__(self, out, n, rows_per_block, total):
-        self.out, self.n, self.rows_per_block, self.total = Path(out), n, rows_per_block, total
-        self.single = total is not None and total <= rows_per_block
-        self.block_dir = self.out.with_suffix(".blocks")
-        self.buffer = np.empty((min(rows_per_block, total) if total else rows_per_block, n))
-        self.filled = 0  # rows in the buffer
-        self.start = 0  # row number of the buffer's first row
-        self.starts = [0]
-        self.skip_block = False
-
-    def _block_name(self, start, stop):
-        return self.block_dir / f"rows-{start:09d}-{stop:09d}.npy"
-
-    def _planned_stop(self, start):
-        return start + self.rows_per_block if self.total is None else min(start + self.rows_per_block, self.total)
-
-    def rows_done(self):
-        """Row numbers held by complete block files of this layout from an earlier, interrupted run."""
-        if self.single or self.total is None or not self.block_dir.is_dir():
-            return set()
-        done = set()
-        for start in range(0, self.total, self.rows_per_block):
-            stop = self._planned_stop(start)
-            if self._block_name(start, stop).is_file():
-                done.update(range(start, stop))
-        return done
-
-    def add(self, row):
-        if self.filled == 0 and not self.single:
-            self.block_dir.mkdir(exist_ok=True)
-        if row is not None:
-            self.buffer[self.filled] = row
-        self.filled += 1
-        if not self.single and self.filled == self.rows_per_block:
-            self._flush()
-
-    def _flush(self):
-        stop = self.start + self.filled
-        name = self._block_name(self.start, stop)
-        if not name.is_file():  # a complete block file from an interrupted run is kept
-            block = self.buffer[: self.filled]
-            _save_atomic(name, lambda fh: np.save(fh, block))
-        self.start = stop
-        self.starts.append(stop)
-        self.filled = 0
-
-    def finish(self, sources, spec):
-        if self.single:
-            _write_index(self.out, sources, self.n, spec, distances=self.buffer[: self.filled])
-            return
-        if self.filled:
-            self._flush()
-        keep = {self._block_name(a, b).name for a, b in zip(self.starts[:-1], self.starts[1:])}
-        for stale in self.block_dir.glob("rows-*.npy"):  # other layouts (another memory bound)
-            if stale.name not in keep:
-                stale.unlink()
-        _write_index(self.out, sources, self.n, spec, block_dir=self.block_dir.name,
-                     block_starts=np.asarray(self.starts, np.int64))
-
-
-def _write_index(out, sources, n, spec, **arrays):
-    payload = {"sources": np.asarray(sources, np.int64), "n_vertices": np.int64(n), "spec": np.str_(str(spec))}
-    payload.update(arrays)
-    _save_atomic(out, lambda fh: np.savez_compressed(fh, **payload))
-
-
-# --------------------------------------------------------------------------- reading results
-
-
-def iter_blocks(path, mmap=True):
-    """Yield ``(first_row, rows)`` blocks of a batch result, in order.
-
-    Parameters
-    ----------
-    path : path-like
-        A result index ``NAME.npz``.
-    mmap : bool, default True
-        Memory-map block files instead of reading them.
-    """
-    path = Path(path)
-    with np.load(path) as z:
-        if "distances" in z.files:
-            yield 0, z["distances"]
-            return
-        block_dir, starts = path.parent / str(z["block_dir"]), z["block_starts"]
-    for a, b in zip(starts[:-1], starts[1:]):
-        yield int(a), np.load(block_dir / f"rows-{a:09d}-{b:09d}.npy", mmap_mode="r" if mmap else None)
-
-
-def load_distances(path):
-    """All distance rows of a batch result as one ``(k, n)`` array (in memory: small results only)."""
-    return np.concatenate([np.asarray(b) for _, b in iter_blocks(path, mmap=False)], axis=0)
-
-
-def load_sources(path):
-    """The source vertex of each row (or the union's sources) of a batch result."""
-    with np.load(path) as z:
-        return z["sources"]
 
 
 # --------------------------------------------------------------------------- the batch
@@ -565,31 +291,9 @@ def _clock(seconds):
     return f"{h}:{rest // 60:02d}:{rest % 60:02d}" if h else f"{rest // 60}:{rest % 60:02d}"
 
 
-def _skipped_row(path, out):
-    row = {"file": str(path), "vertices": "", "sources": "", "seconds": "0.000", "status": "skipped", "error": ""}
-    try:
-        with np.load(out) as z:
-            row["vertices"], row["sources"] = int(z["n_vertices"]), int(z["sources"].size)
-    except Exception as exc:  # noqa: BLE001 - an unreadable old result is reported, not fatal
-        row["error"] = f"existing output {out.name} is unreadable ({exc}); delete it to recompute"
-    return row
-
-
-def write_summary(path, rows):
-    """Write the summary rows as CSV (atomically)."""
-    import io
-
-    text = io.StringIO()
-    writer = csv.DictWriter(text, fieldnames=SUMMARY_FIELDS, lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(rows)
-    data = text.getvalue().encode()
-    _save_atomic(path, lambda fh: fh.write(data))
-
-
 def run_batch(inputs, output_dir, sources=None, *, sources_suffix=None, union=False, scheduler=None,
               workers=None, max_memory_mb=DEFAULT_MAX_MEMORY_MB, kind="auto", mesh_options=None,
-              solver_options=None, progress=True):
+              solver_options=None, progress=True, resume_only=False):
     """Geodesic distances for every mesh file of ``inputs``; returns the summary rows.
 
     Parameters
@@ -619,11 +323,26 @@ def run_batch(inputs, output_dir, sources=None, *, sources_suffix=None, union=Fa
         :class:`~heatcore.HeatSolver` (``m``, ``boundary``, ``accuracy``).
     progress : bool, default True
         Progress line with counts and ETA on stderr.
+    resume_only : bool, default False
+        Only resume: raise :class:`BatchError` (before any work) when an
+        existing result in ``output_dir`` was computed from another mesh file,
+        other sources or other options, instead of recomputing it.
 
     Returns
     -------
     list of dict
-        The rows of ``summary.csv`` in input order.
+        The rows of ``summary.csv`` in input order. A result is reused
+        (``skipped``) only when its key (:func:`~heatcore.batch_storage.result_key`)
+        equals this run's.
+
+    Raises
+    ------
+    BatchError
+        Bad inputs or options; with ``resume_only``, results that do not match.
+    KeyboardInterrupt
+        Re-raised after Ctrl-C, once queued work is cancelled, the pool's
+        workers are stopped and ``summary.csv`` lists what is on disk (meshes
+        not finished have status ``interrupted``).
     """
     spec = sources if isinstance(sources, SourceSpec) else parse_sources(sources, suffix=sources_suffix, union=union)
     if not (isinstance(max_memory_mb, (int, float)) and np.isfinite(max_memory_mb) and max_memory_mb > 0):
@@ -636,75 +355,69 @@ def run_batch(inputs, output_dir, sources=None, *, sources_suffix=None, union=Fa
         output_dir.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise BatchError(f"cannot create output folder {output_dir}: {exc.strerror or exc}") from exc
+    clean_temporaries(output_dir)  # partial files of a killed run
+    mesh_options, solver_options = dict(mesh_options or {}), dict(solver_options or {})
+    keys = {}
 
-    rows = {}
-    todo = []
+    def key_of(path):  # None when the file cannot be read (its task says why)
+        if path not in keys:
+            try:
+                keys[path] = result_key(path, spec, kind, mesh_options, solver_options)
+            except OSError:
+                keys[path] = None
+        return keys[path]
+
+    rows, todo, stale = {}, [], []
     for p in paths:
         out = output_path(output_dir, p)
         if out.is_file():
-            rows[p] = _skipped_row(p, out)
-        else:
-            todo.append(MeshTask(str(p), str(output_dir), spec, float(max_memory_mb), kind,
-                                 dict(mesh_options or {}), dict(solver_options or {})))
+            match, reason, info = check_result(out, key_of(p) or "")
+            if match:
+                rows[p] = _result_row(p, info, "skipped")
+                continue
+            stale.append((p, out, reason))
+        todo.append(MeshTask(str(p), str(output_dir), spec, float(max_memory_mb), kind, mesh_options, solver_options))
+    if stale:
+        listed = "; ".join(f"{out.name}: {reason}" for _, out, reason in stale[:5])
+        listed += f"; and {len(stale) - 5} more" if len(stale) > 5 else ""
+        if resume_only:
+            raise BatchError(f"resume only: {len(stale)} existing result(s) in {output_dir} were not computed from "
+                             f"these inputs ({listed}); run without --resume-only to recompute them, or write to "
+                             f"another folder")
+        log.warning("recomputing %d result(s) made from other inputs (%s)", len(stale), listed)
+        for p, out, _ in stale:  # a stale result must not look finished if this run stops early
+            discard_result(out, key_digest(key_of(p)) if key_of(p) else None)
+
     bar = _Progress(len(paths), progress)
     for row in rows.values():
         bar.update(row)
+    results = None
     try:
         if scheduler is not None:
-            results = _run_dask(todo, scheduler)
+            results = run_dask(todo, scheduler, process_mesh)
         elif workers == 0 or len(todo) <= 1 and workers is None:
             results = ((t, process_mesh(t)) for t in todo)
         else:
-            results = _run_pool(todo, workers or os.cpu_count() or 1)
+            results = run_pool(todo, workers or os.cpu_count() or 1, process_mesh)
         for task, row in results:
             rows[Path(task.path)] = row
             bar.update(row)
     finally:
+        if results is not None:
+            results.close()  # early (Ctrl-C): cancels queued tasks and stops the pool's workers now
+        for task in todo:  # a result written but not yet reported is on disk: list it
+            p, out = Path(task.path), output_path(output_dir, task.path)
+            if p not in rows:
+                match, _, info = check_result(out, key_of(p) or "") if out.is_file() else (False, "", {})
+                rows[p] = _result_row(p, info, "ok") if match else _result_row(p, {}, "interrupted")
+        clean_temporaries(output_dir)
         bar.close()
         ordered = [rows[p] for p in paths if p in rows]
         write_summary(output_dir / SUMMARY_NAME, ordered)
     return ordered
 
 
-def _crash_row(task, exc):
-    return {"file": task.path, "vertices": "", "sources": "", "seconds": "", "status": "error",
-            "error": f"worker failed: {_message(exc)}"}
-
-
-def _run_pool(tasks, workers):
-    with ProcessPoolExecutor(max_workers=min(workers, max(len(tasks), 1))) as pool:
-        futures = {pool.submit(process_mesh, t): t for t in tasks}
-        for fut in as_completed(futures):
-            task = futures[fut]
-            try:
-                yield task, fut.result()
-            except Exception as exc:  # noqa: BLE001 - a crashed worker (e.g. killed) fails its mesh only
-                yield task, _crash_row(task, exc)
-
-
-def _run_dask(tasks, scheduler):
-    try:
-        from distributed import Client, as_completed as dask_completed
-    except ImportError:
-        raise InvalidOptionError(
-            "--scheduler needs dask.distributed: pip install 'heatcore[batch]' (or 'dask[distributed]')"
-        ) from None
-    own = not isinstance(scheduler, Client)
-    try:
-        client = Client(scheduler, timeout="30s") if own else scheduler
-    except (OSError, TimeoutError) as exc:
-        raise BatchError(f"cannot connect to the Dask scheduler at {scheduler}: {exc}") from exc
-    try:
-        # One task per mesh: its factorization is built and used on the worker that runs it.
-        futures = client.map(process_mesh, tasks, pure=False, key=[f"heatcore-batch-{Path(t.path).name}-{uuid.uuid4().hex[:8]}" for t in tasks])
-        by_key = {f.key: t for f, t in zip(futures, tasks)}
-        for fut in dask_completed(futures):
-            task = by_key[fut.key]
-            try:
-                yield task, fut.result()
-            except Exception as exc:  # noqa: BLE001 - a lost worker fails its mesh only
-                yield task, _crash_row(task, exc)
-            fut.release()
-    finally:
-        if own:
-            client.close()
+def _result_row(path, info, status):
+    error = "the batch stopped before this mesh was finished" if status == "interrupted" else ""
+    return {"file": str(path), "vertices": info.get("vertices", ""), "sources": info.get("sources", ""),
+            "seconds": "0.000" if status == "skipped" else "", "status": status, "error": error}
