@@ -35,7 +35,7 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 
-from .errors import HeatcoreError, HeatcoreWarning
+from .errors import HeatcoreError, HeatcoreWarning, InvalidMeshError
 from .io import short
 from .outputs import (  # noqa: F401 (check_outputs_fit, OUTPUT_SUFFIXES: part of this module's API)
     OUTPUT_SUFFIXES,
@@ -357,7 +357,10 @@ def run_distance(args):
     sources, origin = gather_sources(args, mesh, given)
     check_sources(sources, len(mesh.vertices))
     log.info("sources: %d from %s", sources.size, origin)
-    solver = build_solver(mesh, args)
+    try:
+        solver = build_solver(mesh, args)
+    except InvalidMeshError as exc:  # the arrays read are checked here: say which file they came from
+        raise InvalidMeshError(f"{args.mesh}: {exc}") from exc
     with _stage("query"):
         d = solver.distance(sources)
     log.info("%s", _summary(d))
@@ -454,8 +457,9 @@ def _batch_arguments(p):
     p.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="folders (their mesh files), glob patterns (quote them) or mesh files")
     p.add_argument("-o", "--output-dir", type=Path, required=True, metavar="DIR",
-                   help="folder for one NAME.npz per mesh and summary.csv (created if missing); "
-                        "meshes whose NAME.npz exists are skipped, so a rerun resumes")
+                   help="folder for one NAME.npz per mesh and summary.csv (created if missing); a rerun "
+                        "skips a mesh whose NAME.npz was computed from the same file bytes, sources and "
+                        "options (so it resumes), and recomputes one made from other inputs")
     src = p.add_argument_group("sources (give one)")
     src.add_argument("--sources", metavar="SPEC",
                      help="'0,17' (vertex indices: one row per source), 'all' (the full distance "
@@ -475,6 +479,9 @@ def _batch_arguments(p):
     run.add_argument("--max-memory", type=_positive_float, default=1024.0, metavar="MB",
                      help="distance rows a task holds at once, in MB; larger results are written as "
                           "per-block .npy files in NAME.blocks/ (default: %(default)s)")
+    run.add_argument("--resume-only", action="store_true",
+                     help="only resume an earlier run: stop with an error, before any work, if a result in "
+                          "the output folder was computed from another mesh file, other sources or options")
     p.add_argument("--domain", choices=("auto", "triangle", "polygon", "tet", "points"), default="auto",
                    help="how to read the files (see 'heatcore distance --help') (default: %(default)s)")
     add_solver_options(p)
@@ -501,7 +508,7 @@ def run_batch_command(args):
         kw[target][kwargs["dest"]] = getattr(args, kwargs["dest"])
     rows = run_batch(args.inputs, args.output_dir, spec, scheduler=args.scheduler, workers=args.workers,
                      max_memory_mb=args.max_memory, kind=args.domain, mesh_options=kw["mesh"],
-                     solver_options=kw["solver"], progress=not args.quiet)
+                     solver_options=kw["solver"], progress=not args.quiet, resume_only=args.resume_only)
     counts = {status: sum(r["status"] == status for r in rows) for status in ("ok", "skipped", "error")}
     for r in rows:
         if r["status"] == "error":

@@ -5,8 +5,7 @@ MeshLab's selection flags and quality) and volume formats; trimesh reads OBJ
 (meshio's OBJ reader rejects files with texture coordinates), OFF, STL and
 glTF without reordering vertices. PLY files of triangle strips
 (``element tristrips``, strips separated by ``-1``, as in the Stanford
-scans) are read by pymeshlab, which meshio cannot do; pymeshlab is imported
-only then (see the design notes on import order with ``bpy``).
+scans), which meshio rejects, are read by :mod:`heatcore.ply`.
 
 A file that cannot be read gives one :class:`~heatcore.errors.InvalidMeshError`
 saying why (an empty file, a PLY without vertices, the reader's own words cut
@@ -34,8 +33,6 @@ TRIMESH_SUFFIXES = {".obj", ".off", ".stl", ".glb", ".gltf"}
 
 #: Longest reader message kept in an error (some readers quote whole files).
 MAX_DETAIL = 300
-#: A PLY header longer than this is not a header.
-MAX_PLY_HEADER = 1 << 20
 
 
 def short(text, limit=MAX_DETAIL):
@@ -59,50 +56,6 @@ def check_not_empty(path):
         raise InvalidMeshError(f"mesh file not found: {path}")
     if path.stat().st_size == 0:
         raise InvalidMeshError(f"{path} is empty (0 bytes)")
-
-
-def ply_elements(path):
-    """Element names and counts declared by a PLY header, in order.
-
-    Parameters
-    ----------
-    path : str or path-like
-
-    Returns
-    -------
-    dict
-        ``{name: count}``, e.g. ``{"vertex": 8, "face": 12}``.
-
-    Raises
-    ------
-    InvalidMeshError
-        Not a PLY file, or a header without ``end_header``.
-
-    Examples
-    --------
-    >>> import tempfile, pathlib
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "h.ply"
-    >>> _ = path.write_text("ply\\nformat ascii 1.0\\nelement vertex 0\\nproperty float x\\nend_header\\n")
-    >>> ply_elements(path)
-    {'vertex': 0}
-    """
-    path = Path(path)
-    with open(path, "rb") as f:
-        head = f.read(MAX_PLY_HEADER)
-    lines = head.split(b"\n")
-    if lines[0].strip() != b"ply":
-        raise InvalidMeshError(f"{path} is not a PLY file (it does not start with 'ply')")
-    elements = {}
-    for line in lines[1:-1]:
-        words = line.split()
-        if words[:1] == [b"end_header"]:
-            return elements
-        if words[:1] == [b"element"] and len(words) == 3:
-            try:
-                elements[words[1].decode("ascii", "replace")] = int(words[2])
-            except ValueError:
-                raise InvalidMeshError(f"{path}: bad PLY header line {short(line.decode('ascii', 'replace'))!r}") from None
-    raise InvalidMeshError(f"{path}: the PLY header has no end_header line (a truncated file?)")
 
 
 @dataclass
@@ -176,42 +129,27 @@ def _read_trimesh(path):
 
 
 def _read_ply(path):
-    elements = ply_elements(path)
-    if not elements.get("vertex"):
-        declared = "no vertex element" if "vertex" not in elements else "element vertex 0"
+    from .ply import read_header, read_tristrips
+
+    header = read_header(path)
+    counts = header.counts()
+    if not counts.get("vertex"):
+        declared = "no vertex element" if "vertex" not in counts else "element vertex 0"
         raise InvalidMeshError(f"{path} holds no vertices (its PLY header declares {declared})")
-    if elements.get("tristrips"):
-        return _read_pymeshlab(path, "it stores triangle strips (element tristrips)")
-    if not elements.get("face"):
+    if counts.get("tristrips"):
+        return SurfaceMesh(*read_tristrips(path, header))
+    if not counts.get("face"):
         raise NoFacesError(f"{path} holds no faces")
+    import meshio
     import meshio.ply
 
     try:
         return _surface(meshio.ply.read(str(path)), path)
-    except NoFacesError:
+    except (NoFacesError, meshio.ReadError):
         raise
-    except Exception as exc:  # a file meshio does not parse: pymeshlab (VCG) may, or says why not
-        return _read_pymeshlab(path, f"meshio: {short(exc, 120) or type(exc).__name__}")
-
-
-def _read_pymeshlab(path, why):
-    """Read a PLY with pymeshlab; ``why`` says why meshio was not used (in the error if this fails too)."""
-    try:
-        import pymeshlab
-    except ImportError:
-        raise InvalidMeshError(f"cannot read mesh file {path}: {why}; pymeshlab may read it: pip install pymeshlab") from None
-    ms = pymeshlab.MeshSet()
-    try:
-        ms.load_new_mesh(str(path))
-    except pymeshlab.PyMeshLabException as exc:
-        detail = str(exc).rsplit("Error details:", 1)[-1]
-        raise InvalidMeshError(f"cannot read mesh file {path}: {short(detail, 120)} ({why})") from None
-    m = ms.current_mesh()
-    V, F = np.asarray(m.vertex_matrix(), dtype=float), np.asarray(m.face_matrix(), dtype=np.int64)
-    if len(F) == 0:
-        raise NoFacesError(f"{path} holds no faces")
-    flags = np.where(np.asarray(m.vertex_selection_array(), dtype=bool), MESHLAB_SELECTED_FLAG, 0)
-    return SurfaceMesh(V, F, {"flags": flags} if flags.any() else {})
+    except Exception as exc:  # numpy's complaint while parsing: the body does not match the header
+        raise InvalidMeshError(f"cannot read mesh file {path}: {short(exc, 160) or type(exc).__name__} "
+                               "(the data does not match the header: a truncated or corrupt file?)") from None
 
 
 def _read_meshio(path):

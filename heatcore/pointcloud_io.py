@@ -97,10 +97,10 @@ def _read_ply(path):
     import contextlib
     import io
 
-    import meshio
+    import meshio.ply
 
     with contextlib.redirect_stdout(io.StringIO()):  # meshio prints its own errors
-        mesh = meshio.read(str(path), file_format="ply")
+        mesh = meshio.ply.read(str(path))  # not meshio.read: it prints the reason and exits
     points = np.asarray(mesh.points, dtype=float)
     data = mesh.point_data
     normals = None
