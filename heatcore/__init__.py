@@ -60,6 +60,7 @@ def geodesic_distance(
     robust=True,
     refine="auto",
     accuracy="smooth",
+    weld=0.0,
 ):
     """Geodesic distance from sources on a triangle mesh, in one call.
 
@@ -84,6 +85,9 @@ def geodesic_distance(
         Midpoint subdivision levels (see :class:`TriangleMesh`).
     accuracy : {"smooth", "high"}
         "high" adds an ordered eikonal pass (see :class:`HeatSolver`).
+    weld : float or None, default 0.0
+        Merge vertices closer than this (0: at exactly the same position;
+        None: never), see :class:`TriangleMesh`.
 
     Returns
     -------
@@ -97,5 +101,6 @@ def geodesic_distance(
     >>> bool(abs(d[1] - 1.0) < 0.02)
     True
     """
-    solver = HeatSolver(TriangleMesh(V, F, robust=robust, refine=refine), m=m, boundary=boundary, accuracy=accuracy)
+    mesh = TriangleMesh(V, F, robust=robust, refine=refine, weld=weld)
+    solver = HeatSolver(mesh, m=m, boundary=boundary, accuracy=accuracy)
     return solver.distance(sources, face_points=face_points, edges=edges, faces=faces)

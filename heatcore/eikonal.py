@@ -256,10 +256,11 @@ def refine_distance(
         ``subdivision`` (the extrinsic mesh on the same vertices) and
         ``operators.mean_edge_length``.
     phi : (n,) float array
-        Heat-method distance at the operator vertices (``inf`` where
-        unreachable); only its order is used.
+        Heat-method distance at the operator vertices, in the input's units
+        (``inf`` where unreachable); only its order is used.
     pins : SourcePins
-        Known distances: ``pins.vertices`` keep ``pins.values``.
+        Known distances, in the operators' units: ``pins.vertices`` keep
+        ``pins.values``.
     band_width : float
         Band width in mean edge lengths.
     lookback : int
@@ -276,9 +277,15 @@ def refine_distance(
     Returns
     -------
     (n,) float array
-        Refined distances; ``inf`` where ``phi`` is ``inf``.
+        Refined distances in the input's units; ``inf`` where ``phi`` is ``inf``.
+
+    Each connected part is swept in its own unit and its own edge lengths
+    (bands start at distance 0, not at the nearest vertex of all parts), so
+    its result does not depend on the other parts.
     """
-    phi = np.asarray(phi, dtype=float)
+    unit = domain.operators.unit_exponent
+    h = np.broadcast_to(domain.operators.mean_edge_length, np.shape(phi))
+    phi = np.ldexp(np.asarray(phi, dtype=float), np.negative(unit))  # in each part's unit
     n = phi.size
     table = CornerTable.of_domain(domain)
     d = np.full(n, np.inf)
@@ -287,18 +294,17 @@ def refine_distance(
     free = np.isfinite(phi) & (counts_all > 0)
     free[pins.vertices] = False
     order = np.flatnonzero(free)
-    order = order[np.argsort(phi[order], kind="stable")]
+    hops = phi[order] / h[order]  # heat distance in edge lengths of the vertex's own part
+    rank = np.argsort(hops, kind="stable")
+    order, hops = order[rank], hops[rank]
     if order.size == 0:
-        return np.where(np.isfinite(phi), d, np.inf)
+        return np.ldexp(np.where(np.isfinite(phi), d, np.inf), unit)
 
     sweep = _Sweep(table, order, d, tol)
     offsets = sweep.offsets
 
-    # Band boundaries (corner positions): one band per band_width * h of phi.
-    h = domain.operators.mean_edge_length
-    ps = phi[order]
-    nb = int(np.ceil((ps[-1] - ps[0]) / (band_width * h))) + 1
-    edges = np.searchsorted(ps, ps[0] + band_width * h * np.arange(1, nb + 1))
+    # Band boundaries (corner positions): one band per band_width edge lengths of phi.
+    edges = np.searchsorted(hops, band_width * np.arange(1, int(hops[-1] // band_width) + 2))
     bounds = offsets[np.unique(np.r_[0, edges, order.size])]
 
     with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
@@ -317,4 +323,4 @@ def refine_distance(
                 break
             sweep.settle(0, 0, offsets[-1], 1)
     d[~np.isfinite(phi)] = np.inf
-    return d
+    return np.ldexp(d, unit)

@@ -26,10 +26,9 @@ from concurrent.futures import Future
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components, shortest_path
-
 from .errors import InvalidOptionError, SolverError
 from .linalg import Ordering, choose_backend, factor, fill_reducing_ordering, restrict_ordering, start_nested_dissection
+from .parts import hop_diameters, vertex_components, vertex_graph
 
 log = logging.getLogger("heatcore")
 
@@ -63,18 +62,28 @@ class HeatSolver:
     backend : {"auto", "supernodal", "qdldl", "cholmod", "superlu"}
         Sparse factorization backend (see :mod:`heatcore.linalg`).
 
+    Each connected component gets its own time step ``t = m h^2`` from its
+    own mean edge length ``h`` (and its own underflow guard), so a part's
+    distances do not depend on the other parts.
+
     Attributes
     ----------
-    t : float
-        The heat time step, ``m_effective h^2``.
+    t : (n_components,) float array
+        The heat time step of each component, ``m h^2`` in the input's units
+        (with ``m`` raised where needed, see ``part_m``).
+    part_m : (n_components,) float array
+        The time factor of each component: ``m``, raised where the component
+        is so many edge hops across that heat with time factor ``m`` would
+        underflow double precision far from the sources (see
+        :func:`underflow_safe_m`).
     m_effective : float
-        ``m``, raised where the mesh is so many edge hops across that heat
-        with time factor ``m`` would underflow double precision far from the
-        sources (see :func:`underflow_safe_m`).
+        The largest of ``part_m``.
     hop_diameter : int
-        Edge hops across the largest component (double-sweep estimate).
+        Edge hops across the widest component (double-sweep estimate).
     n_components : int
         Connected components of the domain.
+    component : (n,) int array
+        Component of each operator vertex.
     timings : dict
         Seconds spent in each precomputation stage.
 
@@ -114,8 +123,13 @@ class HeatSolver:
             # background while the heat matrix is factored (with the quick ordering).
             self._domain_cache["nested", poisson_backend] = start_nested_dissection(self._laplacian, poisson_backend)
 
-        self.n_components, self.component, self.hop_diameter = _connectivity(ops.elements, n)
-        self.m_effective = max(self.m, underflow_safe_m(self.hop_diameter))
+        graph = vertex_graph(ops.elements, n)
+        self.n_components, self.component = vertex_components(ops.elements, n, graph)
+        hops = hop_diameters(graph, self.component, self.n_components)
+        del graph
+        self.hop_diameter = int(hops.max())
+        self.part_m = np.maximum(self.m, underflow_safe_m(hops))
+        self.m_effective = float(self.part_m.max())
         if self.m_effective > self.m:
             log.info(
                 "mesh is %d edge hops across: time factor raised from m=%g to m=%.3g so that the heat "
@@ -124,10 +138,13 @@ class HeatSolver:
                 self.m,
                 self.m_effective,
             )
-        self.t = self.m_effective * ops.mean_edge_length**2
         ground = np.full(self.n_components, n, dtype=np.int64)
         np.minimum.at(ground, self.component, np.arange(n))
         self._ground = ground
+        h = np.broadcast_to(ops.mean_edge_length, (n,))
+        step = self.part_m[self.component] * h * h  # in each vertex's unit; constant on each component
+        self._time_step = step[0] if (step == step[0]).all() else step
+        self.t = np.ldexp(step[ground], 2 * np.broadcast_to(ops.unit_exponent, (n,))[ground])
         self._gradient_transposed = ops.gradient.T  # a view: -div X = G^T (volumes * X)
         self._factor_heat(self._resolve(backend, "factor"))
         self.timings["heat factorization"] = time.perf_counter() - start
@@ -144,10 +161,11 @@ class HeatSolver:
             if isinstance(ordering, Ordering):
                 ordering.forget_pattern()  # its memory matters more than re-converting for another m
         log.info(
-            "heat solver ready: %d operator vertices, %d components, t=%.3g, boundary=%s (%.2f s)",
+            "heat solver ready: %d operator vertices, %d components, t=%.3g..%.3g, boundary=%s (%.2f s)",
             n,
             self.n_components,
-            self.t,
+            self.t.min(),
+            self.t.max(),
             self.boundary,
             sum(self.timings.values()),
         )
@@ -176,7 +194,11 @@ class HeatSolver:
         return phi[self.domain.output_vertices]  # index -1 (unreferenced) reads the appended inf
 
     def distance_from_pins(self, pins):
-        """Distance at every operator vertex for prepared :class:`~heatcore.sources.SourcePins`."""
+        """Distance at every operator vertex, in the input's units, for prepared :class:`~heatcore.sources.SourcePins`.
+
+        The pins hold distances in the operators' units (see
+        :class:`~heatcore.operators.Operators`), as the domain builds them.
+        """
         u = self.heat(pins.heat)
         b = self._gradient_transposed @ self._scaled_unit_field(u, self.ops.volumes).ravel()  # = -div X
         reached = None if self.n_components == 1 else np.isin(self.component, self.component[pins.vertices])
@@ -185,6 +207,7 @@ class HeatSolver:
         np.maximum(phi, 0.0, out=phi)
         if reached is not None:
             phi[~reached] = np.inf
+        phi = np.ldexp(phi, self.ops.unit_exponent)
         if self.accuracy == "high":
             from .eikonal import refine_distance
 
@@ -236,7 +259,8 @@ class HeatSolver:
     def _factor_heat(self, backend):
         """Factor ``M + t L`` for the boundary condition (Neumann, interior-only Dirichlet, or both)."""
         ops = self.ops
-        heat_matrix = (sp.diags(ops.mass) + self.t * ops.laplacian).tocsr()
+        step = self._time_step
+        heat_matrix = (sp.diags(ops.mass) + (step * ops.laplacian if np.ndim(step) == 0 else sp.diags(step) @ ops.laplacian)).tocsr()
         self._heat_dirichlet = None
         if self.boundary in ("robin", "dirichlet"):
             self._interior = np.flatnonzero(~ops.boundary)
@@ -348,22 +372,6 @@ def _grounded(L, ground):
     return (K + sp.diags(is_ground.astype(float))).tocsr()  # a ground without a diagonal entry
 
 
-def _connectivity(elements, n):
-    """Connected components of the vertex graph, and the hop diameter of the largest."""
-    graph = _vertex_graph(elements, n)  # symmetric: "directed" traversals skip re-symmetrizing it
-    n_components, component = connected_components(graph, directed=True, connection="weak")
-    return n_components, component, _hop_diameter(graph, component)
-
-
-def _vertex_graph(elements, n):
-    """Sparse adjacency of the vertex graph induced by the elements (a star per element)."""
-    k = elements.shape[1]
-    rows = np.repeat(elements[:, 0], k - 1)
-    cols = elements[:, 1:].ravel()
-    graph = sp.coo_matrix((np.ones(rows.size), (rows, cols)), shape=(n, n)).tocsr()
-    return (graph + graph.T).tocsr()
-
-
 #: Decimal orders of magnitude the heat may fall over the mesh: double
 #: precision underflows near 1e-308, and the heat must stay well above it.
 HEAT_DECADES_BUDGET = 250.0
@@ -387,31 +395,37 @@ def underflow_safe_m(hop_diameter, budget=HEAT_DECADES_BUDGET):
     double precision and its gradient is noise. This returns the smallest
     ``m`` whose decay over the diameter stays within ``budget`` decades.
 
+    Parameters
+    ----------
+    hop_diameter : int or array of int
+        Edge hops across (one value per component).
+    budget : float
+        Decimal orders of magnitude the heat may fall.
+
+    Returns
+    -------
+    float, or a float array of the shape of ``hop_diameter``
+
     Examples
     --------
     >>> bool(underflow_safe_m(300) < 1.0)
     True
     >>> round(float(underflow_safe_m(700)), 2)
     2.42
+    >>> underflow_safe_m(np.array([300, 700])).round(2).tolist()
+    [0.38, 2.42]
     """
+    hops = np.asarray(hop_diameter, dtype=float)
 
-    def decades(m):
-        return hop_diameter * HOP_DECAY_FACTOR * heat_decay_per_hop(m)
+    def too_cold(m):
+        return hops * HOP_DECAY_FACTOR * heat_decay_per_hop(m) > budget
 
-    lo, hi = 1e-9, 1.0
-    while decades(hi) > budget:
-        lo, hi = hi, 2.0 * hi
-    for _ in range(60):  # bisection on log m; decades(m) decreases with m
+    lo, hi = np.full(hops.shape, 1e-9), np.ones(hops.shape)
+    while too_cold(hi).any():
+        grow = too_cold(hi)
+        lo, hi = np.where(grow, hi, lo), np.where(grow, 2.0 * hi, hi)
+    for _ in range(60):  # bisection on log m; the decay falls as m grows
         mid = np.sqrt(lo * hi)
-        lo, hi = (mid, hi) if decades(mid) > budget else (lo, mid)
-    return float(hi)
-
-
-def _hop_diameter(graph, component):
-    """Edge hops across the largest component: two breadth-first sweeps (``graph`` symmetric)."""
-    largest = np.bincount(component).argmax()
-    start = int(np.flatnonzero(component == largest)[0])
-    hops = shortest_path(graph, unweighted=True, indices=start, directed=True)
-    far = int(np.argmax(np.where(np.isfinite(hops), hops, -1)))
-    hops = shortest_path(graph, unweighted=True, indices=far, directed=True)
-    return int(np.max(hops[np.isfinite(hops)]))
+        cold = too_cold(mid)
+        lo, hi = np.where(cold, mid, lo), np.where(cold, hi, mid)
+    return float(hi) if hi.ndim == 0 else hi

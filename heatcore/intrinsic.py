@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .parts import part_means
 from .refine import unique_edges
 
 NEXT = np.array([1, 2, 0])
@@ -89,29 +90,48 @@ def corner_cotangents(lengths, areas=None):
     return (sq[:, NEXT] + sq[:, PREV] - sq) / (4.0 * areas[:, None])
 
 
-def mollify(lengths, relative_delta=1e-6):
+def mollify(lengths, relative_delta=1e-6, part=None, n_parts=1):
     """Add one small constant to every length so each triangle is strictly valid.
 
     Implements the mollification of Sharp and Crane ("A Laplacian for
     nonmanifold triangle meshes", 2020): with ``delta = relative_delta *
     mean length``, the smallest ``eps >= 0`` such that ``l_a + l_b - l_c >=
-    delta`` holds in every triangle is added to all lengths.
+    delta`` holds in every triangle is added to all lengths. Given ``part``,
+    each connected part gets its own ``delta`` and ``eps``, so a bad triangle in
+    one part leaves the others as they are.
 
     Parameters
     ----------
     lengths : (m, 3) float array
     relative_delta : float
+    part : (m,) int array, optional
+        Part of each face.
+    n_parts : int
+        Number of parts (with ``part``).
 
     Returns
     -------
     mollified : (m, 3) float array
-    eps : float
-        The constant added (0 for a mesh that needs none).
+    eps : float, or (n_parts,) float array with ``part``
+        The constant added (0 for a mesh or part that needs none).
+
+    Examples
+    --------
+    >>> L = np.array([[1.0, 1.0, 2.0], [1.0, 1.0, 1.0]])
+    >>> mollified, eps = mollify(L, 0.1, part=np.array([0, 1]), n_parts=2)
+    >>> eps.round(3).tolist()
+    [0.133, 0.0]
     """
-    delta = relative_delta * float(np.mean(lengths))
     slack = lengths[:, NEXT] + lengths[:, PREV] - lengths
-    eps = max(0.0, float(delta - slack.min()))
-    return lengths + eps, eps
+    if part is None:
+        delta = relative_delta * float(np.mean(lengths))
+        eps = max(0.0, float(delta - slack.min()))
+        return lengths + eps, eps
+    delta = relative_delta * part_means(lengths.ravel(), np.repeat(part, 3), n_parts)
+    least = np.full(n_parts, np.inf)
+    np.minimum.at(least, part, slack.min(axis=1))
+    eps = np.maximum(0.0, np.where(np.isfinite(least), delta - least, 0.0))
+    return lengths + eps[part][:, None], eps
 
 
 @dataclass

@@ -32,8 +32,14 @@ class Operators:
         Vertices on the domain boundary (where Dirichlet conditions apply).
     elements : (e, k) int array
         Vertex indices of each element; defines connected components.
-    mean_edge_length : float
-        ``h`` in the time step ``t = m h^2``.
+    mean_edge_length : float or (n,) float array
+        ``h`` in the time step ``t = m h^2``: one value, or per vertex the
+        mean edge length of the vertex's connected part.
+    unit_exponent : (n,) int array or 0
+        Length unit of each vertex's part: the operators measure lengths in
+        units of ``2**unit_exponent`` input units (see :mod:`heatcore.parts`),
+        so a distance ``d`` on them is ``np.ldexp(d, unit_exponent)`` in the
+        input's units. 0 for domains built in the input's units.
     """
 
     laplacian: sp.spmatrix
@@ -43,7 +49,8 @@ class Operators:
     dim: int
     boundary: np.ndarray
     elements: np.ndarray
-    mean_edge_length: float
+    mean_edge_length: object
+    unit_exponent: object = 0
 
     @property
     def n_vertices(self):

@@ -43,6 +43,24 @@ class Subdivision:
     mesh_edges: np.ndarray
     side_edge: np.ndarray
 
+    def carry(self, labels, faces):
+        """Extend per-vertex ``labels`` of the input mesh ``faces`` to every refined vertex.
+
+        A new vertex takes the label of the first corner of the input edge or
+        face it lies on (labels constant on connected parts carry exactly).
+
+        Examples
+        --------
+        >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+        >>> F = np.array([[0, 1, 2]])
+        >>> midpoint_subdivide(V, F, 1).carry(np.array([7, 7, 7]), F).tolist()
+        [7, 7, 7, 7, 7, 7]
+        """
+        n = labels.shape[0]
+        on_edge, in_face = self.vertex_edge[n:], self.vertex_face[n:]
+        corner = np.where(on_edge >= 0, self.edges[np.maximum(on_edge, 0), 0], faces[np.maximum(in_face, 0), 0])
+        return np.r_[labels, labels[corner]]
+
 
 def unique_edges(F):
     """Unique undirected edges of a face array, and each face side's edge id.
@@ -71,39 +89,56 @@ def midpoint_subdivide(V, F, levels):
     ----------
     V : (n, 3) float array
     F : (m, 3) int array
-    levels : int
+    levels : int or (m,) int array
+        Levels for every face, or per face. Faces that share an edge must get
+        the same number of levels (give it per connected part), so that no
+        edge is split on one side only.
 
     Returns
     -------
     Subdivision
+
+    Examples
+    --------
+    >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [5, 0, 0], [6, 0, 0], [5, 1, 0]], float)
+    >>> sub = midpoint_subdivide(V, np.array([[0, 1, 2], [3, 4, 5]]), levels=np.array([2, 0]))
+    >>> sub.faces.shape[0], sub.vertices.shape[0]
+    (17, 18)
     """
+    face_levels = np.broadcast_to(np.asarray(levels, dtype=np.int64), (F.shape[0],))
     edges, side_edge = cur_edges, cur_side = unique_edges(F)
     n = V.shape[0]
     vertex_edge = np.full(n, -1, dtype=np.int64)
     vertex_face = np.full(n, -1, dtype=np.int64)
     face_origin = np.arange(F.shape[0])
     side_origin = side_edge.copy()  # input edge id of each face side, -1 if interior
-    for level in range(levels):
+    most = int(face_levels.max()) if face_levels.size else 0
+    for level in range(most):
         if level:
             cur_edges, cur_side = unique_edges(F)
-        mid = V.shape[0] + np.arange(cur_edges.shape[0])
-        V = np.vstack([V, 0.5 * (V[cur_edges[:, 0]] + V[cur_edges[:, 1]])])
+        split = face_levels > level  # faces of parts that are done stay as they are
+        cut = np.zeros(cur_edges.shape[0], dtype=bool)
+        cut[cur_side[split].ravel()] = True
+        mid = np.full(cur_edges.shape[0], -1, dtype=np.int64)
+        mid[cut] = V.shape[0] + np.arange(int(cut.sum()))
+        V = np.vstack([V, 0.5 * (V[cur_edges[cut, 0]] + V[cur_edges[cut, 1]])])
         # origin of each new vertex: the input edge its side lies on, else the input face
-        sides, origin = cur_side.ravel(), side_origin.ravel()
+        sides, origin = cur_side[split].ravel(), side_origin[split].ravel()
         new_edge = np.full(cur_edges.shape[0], -1, dtype=np.int64)
         new_face = np.full(cur_edges.shape[0], -1, dtype=np.int64)
         new_edge[sides] = origin
         inner = origin == -1
-        new_face[sides[inner]] = np.repeat(face_origin, 3)[inner]
-        vertex_edge = np.r_[vertex_edge, new_edge]
-        vertex_face = np.r_[vertex_face, new_face]
+        new_face[sides[inner]] = np.repeat(face_origin[split], 3)[inner]
+        vertex_edge = np.r_[vertex_edge, new_edge[cut]]
+        vertex_face = np.r_[vertex_face, new_face[cut]]
 
-        v0, v1, v2 = F.T
-        m0, m1, m2 = mid[cur_side].T
-        s0, s1, s2 = side_origin.T
+        v0, v1, v2 = F[split].T
+        m0, m1, m2 = mid[cur_side[split]].T
+        s0, s1, s2 = side_origin[split].T
         none = np.full_like(s0, -1)
         F = np.concatenate(
             [
+                F[~split],
                 np.stack([v0, m2, m1], 1),
                 np.stack([m2, v1, m0], 1),
                 np.stack([m1, m0, v2], 1),
@@ -112,13 +147,15 @@ def midpoint_subdivide(V, F, levels):
         )
         side_origin = np.concatenate(
             [
+                side_origin[~split],
                 np.stack([none, s1, s2], 1),
                 np.stack([s0, none, s2], 1),
                 np.stack([s0, s1, none], 1),
                 np.stack([none, none, none], 1),
             ]
         )
-        face_origin = np.tile(face_origin, 4)
-    if levels:
+        face_origin = np.r_[face_origin[~split], np.tile(face_origin[split], 4)]
+        face_levels = np.r_[face_levels[~split], np.tile(face_levels[split], 4)]
+    if most:
         cur_edges, cur_side = unique_edges(F)
     return Subdivision(V, F, edges, vertex_edge, vertex_face, cur_edges, cur_side)

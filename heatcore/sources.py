@@ -49,7 +49,10 @@ def edge_list(edges, n_vertices):
     InvalidSourceError
         Not of shape ``(k, 2)``, or vertex indices that :func:`index_list` rejects.
     """
-    e = np.asarray(edges)
+    try:
+        e = np.asarray(edges)
+    except (TypeError, ValueError) as exc:  # ragged nesting
+        raise InvalidSourceError(f"edges must be vertex pairs of shape (k, 2): {exc}") from None
     if e.size and (e.ndim != 2 or e.shape[1] != 2):
         raise InvalidSourceError(f"edges must have shape (k, 2), got {e.shape}")
     return index_list(e.reshape(-1), n_vertices, "vertex").reshape(-1, 2)
@@ -61,27 +64,44 @@ def index_list(indices, upper, what):
     Raises
     ------
     InvalidSourceError
-        Non-integer, negative or out-of-range entries.
+        Nested or ragged lists, non-integer, negative or out-of-range entries.
+
+    Examples
+    --------
+    >>> index_list([3, 7], 10, "vertex").tolist()
+    [3, 7]
+    >>> index_list([[3], [7]], 10, "vertex")
+    Traceback (most recent call last):
+    heatcore.errors.InvalidSourceError: vertex indices must be a flat list of integers, got shape (2, 1)
     """
-    arr = np.asarray(indices)
-    if arr.dtype == object:
-        raise InvalidSourceError(f"{what} indices must be integers")
+    try:
+        arr = np.asarray(indices)
+    except (TypeError, ValueError) as exc:  # ragged nesting
+        raise InvalidSourceError(f"{what} indices must be a flat list of integers: {exc}") from None
+    if arr.ndim > 1:
+        raise InvalidSourceError(f"{what} indices must be a flat list of integers, got shape {arr.shape}")
     arr = np.atleast_1d(arr)
-    if arr.size and not np.issubdtype(arr.dtype, np.integer):
+    if arr.dtype == object:  # Python integers beyond 64 bits, or not numbers at all
+        if not all(isinstance(i, (int, np.integer)) and not isinstance(i, bool) for i in arr):
+            raise InvalidSourceError(f"{what} indices must be integers")
+    elif arr.size and not np.issubdtype(arr.dtype, np.integer):
         if not np.issubdtype(arr.dtype, np.floating) or np.any(~np.isfinite(arr)) or np.any(arr != np.round(arr)):
             raise InvalidSourceError(f"{what} indices must be integers, got {arr.dtype}")
-    arr = arr.astype(np.int64)
-    bad = (arr < 0) | (arr >= upper)
-    if bad.any():
+    bad = np.array([i < 0 or i >= upper for i in arr], dtype=bool) if arr.dtype == object else (arr < 0) | (arr >= upper)
+    if bad.any():  # checked before any cast, so the message shows the value given
         raise InvalidSourceError(
             f"{what} index {int(arr[bad][0])} is out of range: valid {what} indices are 0..{upper - 1}"
         )
-    return arr
+    return arr.astype(np.int64)
 
 
 def barycentric_array(bary, count, corners):
     """Validate barycentric coordinates: shape ``(count, corners)``, finite, >= 0, summing to 1."""
-    b = np.asarray(bary, dtype=float).reshape(-1, corners) if np.size(bary) else np.zeros((0, corners))
+    try:
+        b = np.asarray(bary, dtype=float)
+        b = b.reshape(-1, corners) if b.size else np.zeros((0, corners))
+    except (TypeError, ValueError) as exc:
+        raise InvalidSourceError(f"barycentric coordinates must be numbers, {corners} per point: {exc}") from None
     if b.shape[0] != count:
         raise InvalidSourceError(f"got {count} element indices but {b.shape[0]} barycentric coordinate rows")
     if not np.isfinite(b).all():

@@ -29,9 +29,11 @@ from .intrinsic import (
     mollify,
 )
 from .operators import Operators, laplacian_from_weights
+from .parts import in_part_units, part_means, unit_exponents, vertex_components
 from .refine import midpoint_subdivide
 from .sources import SourcePins, barycentric_array, edge_list, index_list
 from .validate import clean_elements, mesh_arrays
+from .weld import weld_map, weld_tolerance
 
 #: ``refine="auto"`` subdivides meshes with fewer vertices than this. On
 #: coarser meshes one level of midpoint subdivision is cheap and lowers the
@@ -41,18 +43,33 @@ AUTO_REFINE_MIN_VERTICES = 11000
 
 
 def auto_refine_levels(n_vertices, min_vertices=AUTO_REFINE_MIN_VERTICES):
-    """Midpoint subdivision levels that bring a mesh to at least ``min_vertices`` vertices.
+    """Midpoint subdivision levels that bring a mesh (or each part) to at least ``min_vertices`` vertices.
 
     Each level multiplies the vertex count by about four.
+
+    Parameters
+    ----------
+    n_vertices : int or (k,) int array
+
+    Returns
+    -------
+    int, or (k,) int array
+
+    Examples
+    --------
+    >>> auto_refine_levels(2930), auto_refine_levels(np.array([3, 50_000])).tolist()
+    (1, [7, 0])
     """
-    levels, n = 0, n_vertices
-    while n < min_vertices:
-        n = 4 * n - 6 if n > 3 else 2 * n
-        levels += 1
-    return levels
+    n = np.array(n_vertices, dtype=np.int64)
+    levels = np.zeros_like(n)
+    while (n < min_vertices).any():
+        grow = n < min_vertices
+        n = np.where(grow, np.where(n > 3, 4 * n - 6, 2 * n), n)
+        levels += grow
+    return int(levels) if levels.ndim == 0 else levels
 
 
-def triangle_operators(lengths, faces, n_vertices, boundary, mean_edge_length):
+def triangle_operators(lengths, faces, n_vertices, boundary, mean_edge_length, unit_exponent=0):
     """Operator bundle of a triangulation given by its edge lengths.
 
     Parameters
@@ -61,7 +78,9 @@ def triangle_operators(lengths, faces, n_vertices, boundary, mean_edge_length):
     faces : (m, 3) int array
     n_vertices : int
     boundary : (n,) bool array
-    mean_edge_length : float
+    mean_edge_length : float or (n,) float array
+    unit_exponent : int or (n,) int array
+        See :class:`~heatcore.operators.Operators`.
 
     Returns
     -------
@@ -89,7 +108,7 @@ def triangle_operators(lengths, faces, n_vertices, boundary, mean_edge_length):
     index = np.int32 if max(n_vertices, 6 * m + 1) < np.iinfo(np.int32).max else np.int64
     columns = np.repeat(faces[:, None, :].astype(index), 2, axis=1).ravel()
     G = sp.csr_matrix((grad_hat.ravel(), columns, np.arange(0, 6 * m + 1, 3, dtype=index)), shape=(2 * m, n_vertices))
-    return Operators(L, mass, G, areas, 2, boundary, faces, mean_edge_length)
+    return Operators(L, mass, G, areas, 2, boundary, faces, mean_edge_length, unit_exponent)
 
 
 class TriangleMesh(MeshDomain):
@@ -108,24 +127,43 @@ class TriangleMesh(MeshDomain):
         non-manifold edges). ``False`` gives the plain cotan operators.
     refine : "auto" or int, default "auto"
         Levels of midpoint subdivision before building the operators. "auto"
-        subdivides only coarse meshes (fewer than
-        ``AUTO_REFINE_MIN_VERTICES`` vertices), where a single level of
-        triangles cannot resolve the distance; results are reported at the
-        input vertices.
+        subdivides each connected part with fewer than
+        ``AUTO_REFINE_MIN_VERTICES`` vertices until it has that many (a
+        coarse part cannot resolve the distance with one level of
+        triangles); results are reported at the input vertices.
+    weld : float or None, default 0.0
+        Merge vertices closer than this tolerance (in the mesh's units; 0:
+        only vertices at exactly the same position), as STL files (triangle
+        soup) and OBJ files with texture seams need. ``None`` keeps every
+        vertex apart. Distances are still reported at every input vertex.
+
+    Each connected part is solved as if it were alone: its own refinement
+    level, time step, mollification and length unit (:mod:`heatcore.parts`),
+    so its distances do not depend on the other parts, and scaling the mesh
+    by any finite factor scales the distances by the same factor.
 
     Attributes
     ----------
     operators : Operators
+    n_welded : int
+        Input vertices merged into another one by welding.
+    n_parts : int
+        Connected parts (after welding).
+    part_levels : (n_parts,) int array
+        Midpoint subdivision levels of each part; ``levels`` is the largest.
     n_flips : int
         Edge flips made by the intrinsic Delaunay step.
-    mollification : float
-        Length added to every edge by mollification (0 for clean meshes).
+    mollification : (n_parts,) float array
+        Length added to every edge of each part by mollification, in the
+        input's units (0 for clean parts).
     intrinsic : IntrinsicTriangulation
-        The triangulation the operators are built on (faces index operator vertices).
+        The triangulation the operators are built on (faces index operator
+        vertices; lengths in each part's unit).
     subdivision : Subdivision
-        The (possibly midpoint-refined) mesh; its first vertices are the input's
-        referenced vertices, in ``vertex_map`` order. Its ``mesh_edges`` and
-        ``side_edge`` are dropped (None) once the operators are built.
+        The (possibly midpoint-refined) mesh, in each part's unit; its first
+        vertices are the input's referenced vertices, in ``vertex_map``
+        order. Its ``mesh_edges`` and ``side_edge`` are dropped (None) once
+        the operators are built.
 
     Examples
     --------
@@ -133,33 +171,54 @@ class TriangleMesh(MeshDomain):
     >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
     >>> TriangleMesh(V, [[0, 1, 2]]).operators.n_vertices > 3
     True
+    >>> soup = np.vstack([V, [[1, 0, 0], [1, 1, 0], [0, 1, 0]]])  # two triangles, six vertices
+    >>> mesh = TriangleMesh(soup, [[0, 1, 2], [3, 4, 5]], refine=0)
+    >>> mesh.n_welded, mesh.operators.n_vertices, mesh.n_parts
+    (2, 4, 1)
     """
 
     element_name = "face"
 
-    def __init__(self, V, F, *, robust=True, refine="auto"):
+    def __init__(self, V, F, *, robust=True, refine="auto", weld=0.0):
         self.vertices, self.faces = mesh_arrays(V, F)
-        kept = clean_elements(self.faces)
+        if refine != "auto" and not (
+            isinstance(refine, (int, np.integer)) and not isinstance(refine, bool) and 0 <= refine <= 8
+        ):
+            raise InvalidOptionError(f"refine must be 'auto' or an integer 0..8, got {refine!r}")
+        tolerance = weld_tolerance(weld)
+        self.robust = bool(robust)
         n = self.vertices.shape[0]
-        used = np.unique(self.faces[kept])
-        self.vertex_map = np.full(n, -1, dtype=np.int64)
-        self.vertex_map[used] = np.arange(used.size)
+        representative, self.n_welded = weld_map(self.vertices, tolerance) if tolerance is not None else (None, 0)
+        faces = self.faces if representative is None else representative[self.faces]
+        kept = clean_elements(faces)
+        if not kept.any():
+            welded = " once coincident vertices are welded" if self.n_welded else ""
+            raise InvalidMeshError(
+                f"every face has a repeated vertex{welded}: all edges have zero length, the mesh has no area"
+            )
+        used = np.unique(faces[kept])
+        compact = np.full(n, -1, dtype=np.int64)
+        compact[used] = np.arange(used.size)
+        self.vertex_map = compact if representative is None else compact[representative]
         self.face_map = np.full(self.faces.shape[0], -1, dtype=np.int64)
         self.face_map[kept] = np.arange(int(kept.sum()))
-        if refine == "auto":
-            self.levels = auto_refine_levels(used.size)
-        elif isinstance(refine, (int, np.integer)) and not isinstance(refine, bool) and 0 <= refine <= 8:
-            self.levels = int(refine)
-        else:
-            raise InvalidOptionError(f"refine must be 'auto' or an integer 0..8, got {refine!r}")
-        self.robust = bool(robust)
         if used.size == n and kept.all():  # a clean mesh: no renumbered copy needed
-            self.subdivision = midpoint_subdivide(self.vertices, self.faces, self.levels)
+            V_used, F_used = self.vertices, faces
         else:
-            self.subdivision = midpoint_subdivide(self.vertices[used], self.vertex_map[self.faces[kept]], self.levels)
-        self.operators = self._build_operators()
+            V_used, F_used = self.vertices[used], compact[faces[kept]]
+        self.n_parts, part = vertex_components(F_used, used.size)
+        if refine == "auto":
+            self.part_levels = auto_refine_levels(np.bincount(part, minlength=self.n_parts))
+        else:
+            self.part_levels = np.full(self.n_parts, int(refine), dtype=np.int64)
+        self.levels = int(self.part_levels.max())
+        self.unit_exponent = unit_exponents(V_used, part, self.n_parts)
+        self._input_part = part
+        face_levels = self.part_levels[part[F_used[:, 0]]]
+        self.subdivision = midpoint_subdivide(in_part_units(V_used, part, self.unit_exponent), F_used, face_levels)
+        self.operators = self._build_operators(self.subdivision.carry(part, F_used))
 
-    def _build_operators(self):
+    def _build_operators(self, part):
         sub = self.subdivision
         V, F = sub.vertices, sub.faces
         n = V.shape[0]
@@ -168,19 +227,24 @@ class TriangleMesh(MeshDomain):
         boundary = np.zeros(n, dtype=bool)
         boundary[edges[edge_faces == 1].ravel()] = True
         edge_lengths = np.linalg.norm(V[edges[:, 0]] - V[edges[:, 1]], axis=1)
-        h = float(edge_lengths.mean())
-        if h == 0.0:
-            raise InvalidMeshError("all edges have zero length: the mesh collapses to a point")
+        h = part_means(edge_lengths, part[edges[:, 0]], self.n_parts)  # in each part's unit
+        if not (h > 0).all():
+            bad = int(np.flatnonzero(~(h > 0))[0])
+            raise InvalidMeshError(
+                f"all edges of connected part {bad} (of {self.n_parts}) have zero length: it collapses to a point"
+            )
         # Work at unit mean edge length so results scale exactly with the mesh.
-        lengths, self.mollification = mollify(edge_lengths[side_edge] / h)
-        self.mollification *= h
+        face_part = part[F[:, 0]]
+        face_h = h[face_part][:, None]
+        lengths, eps = mollify(edge_lengths[side_edge] / face_h, part=face_part, n_parts=self.n_parts)
+        self.mollification = np.ldexp(eps * h, self.unit_exponent)
         tri = IntrinsicTriangulation.from_mesh(None, F, lengths=lengths, side_edge=side_edge)
         # Only the build needs the refined mesh's edges (1M vertices: 48-96 MB).
         self.subdivision = dataclasses.replace(sub, mesh_edges=None, side_edge=None)
         self.n_flips = tri.flip_to_delaunay() if self.robust else 0
-        tri.lengths *= h
+        tri.lengths *= face_h  # a flip keeps a face row in its part
         self.intrinsic = tri
-        return triangle_operators(tri.lengths, tri.faces, n, boundary, h)
+        return triangle_operators(tri.lengths, tri.faces, n, boundary, h[part], self.unit_exponent[part])
 
     def source_pins(self, vertices=None, *, face_points=None, edges=None, faces=None):
         """Turn a source specification into :class:`SourcePins` on the operator vertices.
@@ -225,21 +289,31 @@ class TriangleMesh(MeshDomain):
         if faces is not None:
             f = index_list(faces, self.faces.shape[0], "face")
             corners = np.unique(self.vertex_map[self.faces[f]])
+            corners = corners[corners >= 0]  # an ignored face may have corners no kept face uses
             inner = self._vertices_inside(f)
             idx = np.r_[corners, inner]
             pin(idx, np.zeros(idx.size), np.ones(idx.size))
         if face_points is not None:
-            fi, bary = face_points
+            try:
+                fi, bary = face_points
+            except (TypeError, ValueError):
+                raise InvalidSourceError("face_points must be a pair (face indices, barycentric coordinates)") from None
             fi = index_list(fi, self.faces.shape[0], "face")
             b = barycentric_array(bary, fi.size, 3)
+            ignored = fi[self.face_map[fi] < 0]
+            if ignored.size:
+                raise InvalidSourceError(
+                    f"face {int(ignored[0])} was ignored (it has repeated vertices, after welding, or duplicates "
+                    "another face), so a point on it cannot be a source; use a vertex or another face"
+                )
             for k in range(fi.size):  # a handful of points: one pin set per point
-                tri = self.faces[fi[k]]
-                p = b[k] @ self.vertices[tri]
-                inside = np.r_[self.vertex_map[tri], self._vertices_inside(fi[k : k + 1])]
-                d = np.linalg.norm(sub.vertices[inside] - p, axis=1)
+                tri = self.vertex_map[self.faces[fi[k]]]
+                corners = sub.vertices[tri]  # in the part's unit, as every pinned distance
+                inside = np.r_[tri, self._vertices_inside(fi[k : k + 1])]
+                d = np.linalg.norm(sub.vertices[inside] - b[k] @ corners, axis=1)
                 pin_v.append(inside)
                 pin_d.append(d)
-                hv, hw = self._point_impulse(tri, b[k], inside)
+                hv, hw = self._point_impulse(corners, self._part_levels_of(tri[0]), b[k], inside)
                 heat_v.append(hv)
                 heat_w.append(hw)
         if not pin_v or sum(len(p) for p in pin_v) == 0:
@@ -250,15 +324,19 @@ class TriangleMesh(MeshDomain):
             n_ops, np.concatenate(pin_v), np.concatenate(pin_d), np.concatenate(heat_v), np.concatenate(heat_w)
         )
 
-    def _point_impulse(self, tri, bary, inside):
+    def _part_levels_of(self, operator_vertex):
+        """Subdivision levels of the part of an input vertex (given as its operator vertex)."""
+        return int(self.part_levels[self._input_part[operator_vertex]])
+
+    def _point_impulse(self, corners, levels, bary, inside):
         """Hat-function weights of a face point on the refined mesh (vertices, weights).
 
         After ``L`` levels of midpoint subdivision the vertices inside an input
-        face sit on the barycentric lattice of spacing ``1 / 2^L``; the point
-        lies in one lattice triangle, whose corners get its barycentric weights.
+        face (``corners``, in the part's unit) sit on the barycentric lattice of
+        spacing ``1 / 2^L``; the point lies in one lattice triangle, whose
+        corners get its barycentric weights.
         """
-        N = 2**self.levels
-        corners = self.vertices[tri]
+        N = 2**levels
         A = np.column_stack([corners[1] - corners[0], corners[2] - corners[0]])
         uv = np.linalg.lstsq(A, (self.subdivision.vertices[inside] - corners[0]).T, rcond=None)[0].T
         lattice = np.rint(np.column_stack([1 - uv.sum(1), uv]) * N).astype(np.int64)

@@ -1,0 +1,177 @@
+"""Connected parts of a domain, and the length unit each part is solved in.
+
+Every connected part of a mesh is solved as if it were alone: it gets its own
+time step, refinement level, mollification and underflow guard, and its own
+length unit. A part whose coordinates are of ordinary size (largest absolute
+coordinate between ``2**-UNIT_RANGE`` and ``2**UNIT_RANGE``) keeps the input's
+unit. A part beyond that (scaled by 1e-60 or 1e100, say) is measured in the
+power of two that brings its largest coordinate into ``[0.5, 1)``: its squared
+lengths, areas and heat would underflow or overflow otherwise. Multiplying by
+a power of two changes no digit of a floating-point number, so the distances
+are exactly those of the same part at an ordinary size, times the scale.
+
+Examples
+--------
+>>> import numpy as np
+>>> F = np.array([[0, 1, 2], [3, 4, 5]])
+>>> count, part = vertex_components(F, 6)
+>>> count, part.tolist()
+(2, [0, 0, 0, 1, 1, 1])
+>>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]] + [[0, 0, 0], [3e-80, 0, 0], [0, 3e-80, 0]], float)
+>>> unit_exponents(V, part, count).tolist()
+[0, -264]
+"""
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components, dijkstra
+
+#: Parts whose largest absolute coordinate lies within ``2**-UNIT_RANGE`` ..
+#: ``2**UNIT_RANGE`` keep the input's unit: their squared lengths, areas and
+#: heat are far from underflow and overflow.
+UNIT_RANGE = 64
+
+
+def vertex_graph(elements, n):
+    """Symmetric sparse adjacency of the vertex graph induced by the elements (a star per element).
+
+    Parameters
+    ----------
+    elements : (m, k) int array
+    n : int
+
+    Returns
+    -------
+    (n, n) scipy.sparse.csr_matrix
+
+    Examples
+    --------
+    >>> vertex_graph(np.array([[0, 1, 2]]), 4).nnz
+    4
+    """
+    k = elements.shape[1]
+    rows = np.repeat(elements[:, 0], k - 1)
+    cols = elements[:, 1:].ravel()
+    graph = sp.coo_matrix((np.ones(rows.size), (rows, cols)), shape=(n, n)).tocsr()
+    return (graph + graph.T).tocsr()
+
+
+def vertex_components(elements, n, graph=None):
+    """Connected components of the vertex graph of ``elements``.
+
+    Parameters
+    ----------
+    elements : (m, k) int array
+    n : int
+        Number of vertices.
+    graph : sparse matrix, optional
+        :func:`vertex_graph` of the elements, if already built.
+
+    Returns
+    -------
+    count : int
+    part : (n,) int array, the component of each vertex (a vertex in no element is a part of its own)
+
+    Examples
+    --------
+    >>> vertex_components(np.array([[0, 1, 2]]), 4)[0]
+    2
+    """
+    if graph is None:
+        graph = vertex_graph(elements, n)
+    count, part = connected_components(graph, directed=True, connection="weak")  # symmetric graph
+    return int(count), part
+
+
+def unit_exponents(V, part, count, unit_range=UNIT_RANGE):
+    """Per part, the power of two of its length unit (0: the input's unit).
+
+    A part whose largest absolute coordinate is beyond ``2**unit_range`` (or
+    below ``2**-unit_range``) gets the power of two that brings it into
+    ``[0.5, 1)``; the others keep the input's unit. A part's coordinates in
+    its own unit are ``np.ldexp(V, -exponent)``; lengths measured there are
+    converted back with ``np.ldexp(length, exponent)``.
+
+    Parameters
+    ----------
+    V : (n, d) float array
+    part : (n,) int array, part of each vertex
+    count : int, number of parts
+
+    Returns
+    -------
+    (count,) int array; 0 for a part whose coordinates are all zero
+
+    Examples
+    --------
+    >>> unit_exponents(np.array([[3.0, 0, 0], [1e-30, 0, 0]]), np.array([0, 1]), 2).tolist()
+    [0, -99]
+    """
+    largest = np.zeros(count)
+    np.maximum.at(largest, part, np.abs(V).max(axis=1))
+    exponent = np.frexp(largest)[1].astype(np.int64)
+    exponent[np.abs(exponent) <= unit_range] = 0
+    return exponent
+
+
+def in_part_units(V, part, exponents):
+    """Coordinates of each vertex in its part's unit (exact: a power-of-two scaling).
+
+    Examples
+    --------
+    >>> in_part_units(np.array([[3.0, 1.0, 0.0]]), np.array([0]), np.array([2])).tolist()
+    [[0.75, 0.25, 0.0]]
+    """
+    if not exponents.any():
+        return V
+    return np.ldexp(V, -exponents[part][:, None])
+
+
+def part_means(values, part, count):
+    """Mean of ``values`` over each part (``nan`` for a part without values).
+
+    Examples
+    --------
+    >>> part_means(np.array([1.0, 3.0, 5.0]), np.array([0, 0, 1]), 2).tolist()
+    [2.0, 5.0]
+    """
+    if count == 1:  # numpy's pairwise summation: the rounding of a plain mean
+        return np.array([values.mean()])
+    total = np.bincount(part, weights=values, minlength=count)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return total / np.bincount(part, minlength=count)
+
+
+def hop_diameters(graph, part, count):
+    """Edge hops across each part (double-sweep breadth-first estimate, exact on trees and paths).
+
+    Both sweeps start from one vertex per part at once, so the cost does not
+    grow with the number of parts.
+
+    Parameters
+    ----------
+    graph : (n, n) symmetric sparse matrix
+    part : (n,) int array
+    count : int
+
+    Returns
+    -------
+    (count,) int array
+
+    Examples
+    --------
+    >>> path = vertex_graph(np.array([[0, 1], [1, 2], [3, 4]]), 5)
+    >>> hop_diameters(path, np.array([0, 0, 0, 1, 1]), 2).tolist()
+    [2, 1]
+    """
+    starts = np.full(count, part.size, dtype=np.int64)
+    np.minimum.at(starts, part, np.arange(part.size))
+    hops = dijkstra(graph, directed=True, indices=starts, unweighted=True, min_only=True)
+    farthest = np.full(count, -1.0)
+    np.maximum.at(farthest, part, hops)
+    far = np.flatnonzero(hops == farthest[part])
+    far = far[np.unique(part[far], return_index=True)[1]]  # one farthest vertex per part
+    hops = dijkstra(graph, directed=True, indices=far, unweighted=True, min_only=True)
+    diameter = np.zeros(count)
+    np.maximum.at(diameter, part, hops)
+    return diameter.astype(np.int64)
