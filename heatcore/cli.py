@@ -72,6 +72,16 @@ def _positive_float(text):
     return value
 
 
+def _non_negative_float(text):
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not (np.isfinite(value) and value >= 0):
+        raise argparse.ArgumentTypeError(f"must be a number >= 0, got {text!r}")
+    return value
+
+
 def _refine_levels(text):
     if text == "auto":
         return "auto"
@@ -113,8 +123,9 @@ def _colormaps():
 
 
 #: Solver options: (flags, target, argparse keywords). ``target`` is "mesh"
-#: (a keyword of TriangleMesh) or "solver" (a keyword of HeatSolver); the
-#: keyword is the option's ``dest``. One entry per option.
+#: (a keyword of TriangleMesh, via DomainFile.domain) or "solver" (a keyword
+#: of HeatSolver); the keyword is the option's ``dest``. One entry per
+#: option; entries sharing a ``dest`` exclude each other on the command line.
 SOLVER_OPTIONS = [
     (("--m",), "solver", dict(dest="m", type=_positive_float, default=1.0, metavar="M",
         help="heat time factor: t = M * h^2, h the mean edge length; larger M gives a "
@@ -134,13 +145,24 @@ SOLVER_OPTIONS = [
         help="midpoint subdivision levels before solving: 'auto' (refine meshes under "
              "11k vertices) or 0..8; results are read back at the input vertices "
              "(default: %(default)s)")),
+    (("--weld-tolerance",), "mesh", dict(dest="weld", type=_non_negative_float, default=0.0, metavar="TOL",
+        help="merge vertices closer than TOL (mesh units) into one before solving, as STL files "
+             "and OBJ seams need; 0 merges vertices at exactly the same position; distances are "
+             "still written for every vertex of the file (default: 0)")),
+    (("--no-weld",), "mesh", dict(dest="weld", action="store_const", const=None, default=0.0,
+        help="solve on the file's vertices as they are (coincident vertices stay apart)")),
 ]
 
 
 def add_solver_options(parser):
     group = parser.add_argument_group("solver options")
+    shared = {}
     for flags, _, kwargs in SOLVER_OPTIONS:
-        group.add_argument(*flags, **kwargs)
+        dest = kwargs["dest"]
+        if sum(k["dest"] == dest for _, _, k in SOLVER_OPTIONS) > 1:  # e.g. --weld-tolerance, --no-weld
+            shared.setdefault(dest, group.add_mutually_exclusive_group()).add_argument(*flags, **kwargs)
+        else:
+            group.add_argument(*flags, **kwargs)
 
 
 def build_solver(source, args):
@@ -152,6 +174,9 @@ def build_solver(source, args):
         kw[target][kwargs["dest"]] = getattr(args, kwargs["dest"])
     with _stage("precompute"):
         solver = HeatSolver(source.domain(**kw["mesh"]), **kw["solver"])
+    welded = getattr(solver.domain, "n_welded", 0)
+    if welded:
+        log.info("welded %s coincident vertices: %s remain", f"{welded:,}", f"{len(source.vertices) - welded:,}")
     return solver
 
 

@@ -55,12 +55,17 @@ class DomainFile:
         """Vertices selected in the file (MeshLab PLY flags)."""
         return self.selection
 
-    def domain(self, robust=True, refine="auto"):
-        """Build the domain; ``robust`` and ``refine`` apply where the domain has them."""
+    def domain(self, robust=True, refine="auto", weld=0.0):
+        """Build the domain; ``robust``, ``refine`` and ``weld`` apply where the domain has them.
+
+        ``weld`` (a tolerance, 0 for exactly coincident vertices, None for no
+        welding) is a :class:`~heatcore.TriangleMesh` option; the domain reports
+        distances at every vertex of the file either way.
+        """
         if self.kind == "triangle":
             from .triangle import TriangleMesh
 
-            return TriangleMesh(self.vertices, self.cells, robust=robust, refine=refine)
+            return TriangleMesh(self.vertices, self.cells, robust=robust, refine=refine, weld=weld)
         if self.kind == "polygon":
             from .polygon import PolygonMesh
 
