@@ -160,8 +160,9 @@ def describe_difference(old, new):
 
     Examples
     --------
-    >>> describe_difference('{"sources":{"indices":[0]}}', '{"sources":{"indices":[5]}}')
-    'other sources ({"indices":[0]} -> {"indices":[5]})'
+    >>> describe_difference('{"sources":{"mode":"indices","indices":[0]}}',
+    ...                     '{"sources":{"mode":"indices","indices":[5,9]}}')
+    'sources 0 -> 5,9'
     """
     if old is None:
         return "written without a result key (an older heatcore)"
@@ -173,8 +174,8 @@ def describe_difference(old, new):
     if a.get("mesh_sha256") != b.get("mesh_sha256"):
         reasons.append("the mesh file changed")
     if a.get("sources") != b.get("sources"):
-        text = lambda s: json.dumps(s, sort_keys=True, separators=(",", ":"))  # noqa: E731
-        reasons.append(f"other sources ({text(a.get('sources'))} -> {text(b.get('sources'))})")
+        x, y = _sources_text(a.get("sources")), _sources_text(b.get("sources"))
+        reasons.append(f"sources {x} -> {y}" if x != y else "the sources file changed")
     for group in ("mesh_options", "solver_options"):
         x, y = a.get(group) or {}, b.get(group) or {}
         for name in sorted(set(x) | set(y)):
@@ -184,3 +185,17 @@ def describe_difference(old, new):
         if a.get(field) != b.get(field):
             reasons.append(f"{field} {a.get(field)} -> {b.get(field)}")
     return ", ".join(reasons) or "other inputs"
+
+
+def _sources_text(sources):
+    sources = sources or {}
+    mode = sources.get("mode")
+    if mode == "indices":
+        text = ",".join(map(str, sources.get("indices", [])))
+    elif mode == "farthest":
+        text = f"farthest:{sources.get('k')}"
+    elif mode == "file":
+        text = f"file *{sources.get('suffix')}"
+    else:
+        text = str(mode)
+    return text + (" (union)" if sources.get("union") else "")

@@ -1,6 +1,6 @@
 """Benchmark of `heatcore batch`: throughput on a process pool and on Dask, and the memory bound.
 
-Writes docs/batch.md. Runs in about 5 minutes on 2 cores:
+Writes the measured section of docs/batch.md (the text before it is kept). Runs in about 5 minutes on 2 cores:
 
 1. meshes per minute over the shared triangle meshes (one source each: the
    cost is reading + factoring), for the local process pool (all cores) and a
@@ -85,6 +85,12 @@ def child(path, out, mode, bound):
     return json.loads(res.stdout.strip().splitlines()[-1])
 
 
+def page_text(path):
+    """The hand-written part of the page (everything before the measured section), kept as it is."""
+    text = path.read_text() if path.is_file() else "# Batch runs: `heatcore batch` on a process pool and on Dask\n"
+    return text.split("\n## Measured on this machine")[0].rstrip("\n").split("\n") + [""]
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--meshes", type=Path, default=Path(os.environ.get("HEATCORE_MESHES", REPO.parent / "shared" / "meshes")))
@@ -127,32 +133,7 @@ def main():
 
     names = {"pool": f"process pool ({os.cpu_count()} processes)", 1: "Dask LocalCluster, 1 worker", 2: "Dask LocalCluster, 2 workers"}
     lines += [
-        "# Batch runs: `heatcore batch` on a process pool and on Dask",
-        "",
-        "`heatcore batch` computes distances for every mesh file of folders or glob patterns, one task",
-        "per mesh (read, factor once, solve every source against that factorization), on a local process",
-        "pool or on an existing `dask.distributed` cluster (`--scheduler ADDRESS`).",
-        "",
-        "```sh",
-        "heatcore batch scans/ -o out/ --sources 0,17                  # vertex indices, one row per source",
-        "heatcore batch 'scans/*.ply' -o out/ --sources farthest:64    # farthest-point samples (heat distance)",
-        "heatcore batch scans/ -o out/ --sources-file-suffix .sources.txt   # scans/a.obj reads scans/a.sources.txt",
-        "heatcore batch big.obj -o out/ --sources all --max-memory 512  # all pairs, in per-block .npy files",
-        "heatcore batch scans/ -o out/ --sources 0 --scheduler tcp://scheduler:8786   # on a Dask cluster",
-        "```",
-        "",
-        "Per mesh `NAME.EXT` it writes `out/NAME.npz` (compressed: `sources`, `distances` one row per source,",
-        "`n_vertices`, `spec`); when the rows exceed `--max-memory` (MB, per task, default 1024) they are",
-        "written as `out/NAME.blocks/rows-START-STOP.npy` and the `.npz` holds the block index",
-        "(`heatcore.batch.iter_blocks` / `load_distances` read both layouts). `out/summary.csv` lists",
-        "`file, vertices, sources, seconds, status, error`: a mesh that cannot be read or solved gets",
-        "status `error` and its message and the batch goes on (exit status 1 at the end); a rerun skips",
-        "meshes whose `.npz` exists (`skipped`) and, within an interrupted all-pairs run, the finished",
-        "blocks. Every file is written under a temporary name and renamed when complete; the `.npz` index",
-        "comes last. Progress (counts, elapsed, ETA) goes to one stderr line. With `--scheduler` the mesh",
-        "files and the output folder must be on a file system the workers share; install",
-        "`heatcore[batch]` (dask.distributed) on the client and the workers.",
-        "",
+        *page_text(args.out),
         f"## Measured on this machine ({os.cpu_count()} cores, {platform.processor() or platform.machine()}, "
         f"Python {platform.python_version()}, numpy {np.__version__}, dask.distributed {distributed.__version__}, "
         f"heatcore {heatcore.__version__})",
