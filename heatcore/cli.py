@@ -24,8 +24,6 @@ heatcore ...
 """
 
 import argparse
-import contextlib
-from io import StringIO
 import logging
 import sys
 import time
@@ -37,6 +35,18 @@ import numpy as np
 
 from .errors import HeatcoreError, HeatcoreWarning, InvalidMeshError
 from .io import short
+from .inputs import (  # noqa: F401 (read_mesh_file, read_sources_file: used by heatcore.batch)
+    _non_negative_float,
+    _non_negative_int,
+    _positive_float,
+    _refine_levels,
+    _vertex_index,
+    check_sources,
+    command_line_sources,
+    gather_sources,
+    read_mesh_file,
+    read_sources_file,
+)
 from .outputs import (  # noqa: F401 (check_outputs_fit, OUTPUT_SUFFIXES: part of this module's API)
     OUTPUT_SUFFIXES,
     PNG_ISOLINES,
@@ -55,65 +65,9 @@ log = logging.getLogger("heatcore.cli")
 DEMO_SOURCE = 1453
 #: Camera of the demo picture: spot faces -z with y up; a three-quarter front view.
 DEMO_VIEW = {"elevation": 15.0, "azimuth": 150.0, "up": "y"}
-#: Largest vertex index a source may have (indices are int64).
-MAX_INDEX = np.iinfo(np.int64).max
 
 
 # --------------------------------------------------------------------------- options
-
-
-def _positive_float(text):
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not (np.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"must be a positive number, got {text!r}")
-    return value
-
-
-def _non_negative_float(text):
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not (np.isfinite(value) and value >= 0):
-        raise argparse.ArgumentTypeError(f"must be a number >= 0, got {text!r}")
-    return value
-
-
-def _refine_levels(text):
-    if text == "auto":
-        return "auto"
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be 'auto' or an integer 0..8, got {text!r}") from None
-    if not 0 <= value <= 8:
-        raise argparse.ArgumentTypeError(f"must be 'auto' or an integer 0..8, got {text!r}")
-    return value
-
-
-def _vertex_index(text):
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a vertex index: {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"vertex indices are 0-based, got {text}")
-    if value > MAX_INDEX:
-        raise argparse.ArgumentTypeError(f"vertex index {text} is too large for any mesh (at most {MAX_INDEX})")
-    return value
-
-
-def _non_negative_int(text):
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be >= 0, got {text!r}")
-    return value
 
 
 def _colormaps():
@@ -160,7 +114,9 @@ def add_solver_options(parser):
     for flags, _, kwargs in SOLVER_OPTIONS:
         dest = kwargs["dest"]
         if sum(k["dest"] == dest for _, _, k in SOLVER_OPTIONS) > 1:  # e.g. --weld-tolerance, --no-weld
-            shared.setdefault(dest, group.add_mutually_exclusive_group()).add_argument(*flags, **kwargs)
+            if dest not in shared:
+                shared[dest] = group.add_mutually_exclusive_group()
+            shared[dest].add_argument(*flags, **kwargs)
         else:
             group.add_argument(*flags, **kwargs)
 
@@ -247,76 +203,6 @@ class _stage:
 
 def _seconds(seconds):
     return f"{seconds * 1000:.1f} ms" if seconds < 0.1 else f"{seconds:.2f} s"
-
-
-def read_sources_file(path):
-    """Vertex indices from a text file: integers separated by whitespace or commas; ``#`` comments."""
-    path = Path(path)
-    try:
-        text = path.read_text()
-    except OSError as exc:
-        raise CliError(f"cannot read sources file {path}: {exc.strerror or exc}") from exc
-    indices = []
-    for lineno, line in enumerate(text.splitlines(), 1):
-        for token in line.split("#", 1)[0].replace(",", " ").split():
-            try:
-                value = int(token)
-            except ValueError:
-                raise CliError(f"{path}, line {lineno}: {short(repr(token), 60)} is not a vertex index") from None
-            if not 0 <= value <= MAX_INDEX:
-                raise CliError(f"{path}, line {lineno}: {short(token, 60)} is not a vertex index "
-                               f"(0-based, at most {MAX_INDEX})")
-            indices.append(value)
-    if not indices:
-        raise CliError(f"sources file {path} holds no vertex indices")
-    return indices
-
-
-def read_mesh_file(path, kind="auto"):
-    """:func:`heatcore.domain_io.read_domain`, with reader chatter and exits turned into one error.
-
-    meshio prints to stdout/stderr and calls ``sys.exit`` on some malformed
-    files; a command must not die that way.
-    """
-    from .domain_io import read_domain
-
-    chatter = StringIO()
-    try:
-        with contextlib.redirect_stdout(chatter), contextlib.redirect_stderr(chatter):
-            return read_domain(path, kind)
-    except SystemExit:
-        detail = " ".join(chatter.getvalue().split()) or "the reader gave up"
-        raise CliError(f"cannot read mesh file {path}: {detail}") from None
-
-
-def check_sources(sources, n_vertices):
-    """Fail before the precomputation when a source index cannot be a vertex."""
-    bad = sources[(sources < 0) | (sources >= n_vertices)]
-    if bad.size:
-        raise CliError(
-            f"source vertex {bad[0]} is out of range: the mesh has {n_vertices} vertices (0..{n_vertices - 1})"
-        )
-
-
-def command_line_sources(args):
-    """Sources from --source and --sources-file (read before the mesh), or None."""
-    sources = list(args.source or [])
-    for path in args.sources_file or []:
-        sources += read_sources_file(path)
-    return np.unique(np.asarray(sources, dtype=np.int64)) if sources else None
-
-
-def gather_sources(args, mesh, given=None):
-    """Sources from the command line (``given``), else the mesh file's saved selection."""
-    if given is not None:
-        return given, "command line"
-    selected = mesh.selected_vertices()
-    if selected.size:
-        return selected, f"the selection saved in {args.mesh.name}"
-    raise CliError(
-        "no sources: give --source INDEX or --sources-file FILE, "
-        "or a PLY with selected vertices (MeshLab: save with the vertex flags)"
-    )
 
 
 def _summary(d):
