@@ -24,19 +24,26 @@ Sources per mesh (:func:`parse_sources`):
 Output, per mesh ``NAME.EXT``, in the output folder:
 
 ``NAME.npz`` (compressed)
-    ``sources`` (k,) int64, ``n_vertices``, ``spec`` and, when the ``k x n``
+    ``sources`` (k,) int64, ``n_vertices``, ``spec``, ``key`` (what the result
+    was computed from: :mod:`heatcore.batch_keys`) and, when the ``k x n``
     rows fit in the memory bound, ``distances`` (k, n) float64 (``inf`` where
-    unreachable). Otherwise the rows are in ``NAME.blocks/rows-START-STOP.npy``
-    (one ``.npy`` per block, never all in memory) and the index holds
-    ``block_dir`` and ``block_starts``; :func:`iter_blocks` and
-    :func:`load_distances` read either layout.
+    unreachable). Otherwise the rows are in ``NAME.blocks/rows-START-STOP-DIGEST.npy``
+    (one ``.npy`` per block, never all in memory, named by the key's digest)
+    and the index holds ``block_dir``, ``block_starts`` and ``block_key``;
+    :func:`iter_blocks` and :func:`load_distances` read either layout.
 ``summary.csv``
     ``file, vertices, sources, seconds, status, error`` with status ``ok``,
-    ``error`` (the mesh could not be processed; the message says why) or
-    ``skipped`` (its output already existed: reruns resume).
+    ``error`` (the mesh could not be processed; the message says why),
+    ``skipped`` (a result with this run's exact key existed: reruns resume) or
+    ``interrupted`` (Ctrl-C came first).
 
-Every file is written under a temporary name and renamed when complete, and
-the ``.npz`` index is written last, so a file that looks finished is finished.
+A rerun reuses a result, or the finished blocks of an interrupted one, only
+when its key equals the new one (same mesh bytes, sources and options);
+other results are recomputed, or refused with ``resume_only=True``. Every
+file is written under a temporary name and renamed when complete, and the
+``.npz`` index is written last, so a file that looks finished is finished
+(:mod:`heatcore.batch_storage`). Ctrl-C stops the pool at once
+(:mod:`heatcore.batch_runners`).
 
 Examples
 --------

@@ -55,16 +55,19 @@ def crash_row(task, exc):
 # --------------------------------------------------------------------------- workers die with their parent
 
 
-def _parent_gone(parent_pid):
-    if os.name == "nt":
-        from .batch_storage import pid_alive
+def _parent_gone(parent_pid, direct):
+    if direct:  # our parent itself (fork, spawn): re-parented to init or a subreaper once it died
+        return os.getppid() != parent_pid
+    from .batch_storage import pid_alive  # started by a fork server, or on Windows
 
-        return not pid_alive(parent_pid)
-    return os.getppid() != parent_pid  # re-parented to init (or a subreaper): the parent died
+    return not pid_alive(parent_pid)
 
 
 def watch_parent(parent_pid, interval=WATCHDOG_INTERVAL):
     """Start a daemon thread that ends this process (``os._exit``) once ``parent_pid`` is gone.
+
+    ``parent_pid`` is the process that owns the work: our parent process, or
+    (started by a fork server) the process that asked for us.
 
     Returns
     -------
@@ -78,9 +81,10 @@ def watch_parent(parent_pid, interval=WATCHDOG_INTERVAL):
     >>> subprocess.run([sys.executable, "-c", code], capture_output=True, text=True).stdout.strip()
     'parent alive: still running'
     """
+    direct = os.name != "nt" and os.getppid() == parent_pid
 
     def watch():
-        while not _parent_gone(parent_pid):
+        while not _parent_gone(parent_pid, direct):
             time.sleep(interval)
         os._exit(ORPHAN_EXIT_STATUS)
 
@@ -104,9 +108,7 @@ def worker_init(parent_pid):
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     if sys.platform.startswith("linux"):
         _die_with_parent_linux()
-    if _parent_gone(parent_pid):  # died before we got here
-        os._exit(ORPHAN_EXIT_STATUS)
-    watch_parent(parent_pid)
+    watch_parent(parent_pid)  # also exits at once if the parent died before we got here
 
 
 # --------------------------------------------------------------------------- local pool

@@ -128,7 +128,11 @@ def pid_alive(pid):
         return False
     except OSError:  # EPERM: someone else's process
         return True
-    return True
+    try:  # Linux: an exited process not yet reaped (a zombie) no longer runs
+        with open(f"/proc/{pid}/stat", "rb") as fh:
+            return fh.read().rsplit(b")", 1)[1].split()[0] != b"Z"
+    except (OSError, IndexError):
+        return True
 
 
 def clean_temporaries(folder, max_age=STALE_TEMPORARY_SECONDS):
