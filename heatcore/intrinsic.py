@@ -103,7 +103,7 @@ def mollify(lengths, relative_delta=1e-6, part=None, n_parts=1):
     Parameters
     ----------
     lengths : (m, 3) float array
-    relative_delta : float
+    relative_delta : float, or (n_parts,) float array with ``part``
     part : (m,) int array, optional
         Part of each face.
     n_parts : int
@@ -122,7 +122,7 @@ def mollify(lengths, relative_delta=1e-6, part=None, n_parts=1):
     >>> eps.round(3).tolist()
     [0.133, 0.0]
     """
-    slack = lengths[:, NEXT] + lengths[:, PREV] - lengths
+    slack = triangle_slack(lengths)
     if part is None:
         delta = relative_delta * float(np.mean(lengths))
         eps = max(0.0, float(delta - slack.min()))
@@ -132,6 +132,17 @@ def mollify(lengths, relative_delta=1e-6, part=None, n_parts=1):
     np.minimum.at(least, part, slack.min(axis=1))
     eps = np.maximum(0.0, np.where(np.isfinite(least), delta - least, 0.0))
     return lengths + eps[part][:, None], eps
+
+
+def triangle_slack(lengths):
+    """``l_a + l_b - l_c`` for each side ``c`` of each face: how far from degenerate the triangle is.
+
+    Examples
+    --------
+    >>> triangle_slack(np.array([[1.0, 1.0, 1.5]])).tolist()
+    [[1.5, 1.5, 0.5]]
+    """
+    return lengths[:, NEXT] + lengths[:, PREV] - lengths
 
 
 @dataclass
@@ -187,7 +198,10 @@ class IntrinsicTriangulation:
             h, t = candidates, self.twin[candidates]
             cot_sum = _corner_cotangent(self.lengths, h) + _corner_cotangent(self.lengths, t)
             f0, f1 = h // 3, t // 3
-            bad = (cot_sum < -tol) & (f0 != f1)
+            # The tolerance follows the rounding of the cotangents, (a^2 + b^2 - c^2) / 4A: on needle
+            # triangles it is large, and two cocircular configurations would otherwise flip forever.
+            rounding = _cotangent_rounding(self.lengths, f0) + _cotangent_rounding(self.lengths, f1)
+            bad = (cot_sum < -tol * rounding) & (f0 != f1)
             if not bad.any():
                 break
             h, t, f0, f1, score = h[bad], t[bad], f0[bad], f1[bad], cot_sum[bad]
@@ -307,6 +321,12 @@ def _corner_cotangent(lengths, h):
     rows = np.arange(f.size)
     sq = sides**2
     return (sq[rows, NEXT[c]] + sq[rows, PREV[c]] - sq[rows, c]) / (4.0 * face_areas(sides))
+
+
+def _cotangent_rounding(lengths, f):
+    """``(a^2 + b^2 + c^2) / 4A`` of faces ``f``: the scale of the rounding error of their cotangents."""
+    sides = lengths[f]
+    return (sides**2).sum(axis=1) / (4.0 * face_areas(sides))
 
 
 def _flipped_diagonal(l_ij, l_jk, l_ki, l_il, l_lj):

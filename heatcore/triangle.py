@@ -27,6 +27,7 @@ from .intrinsic import (
     corner_cotangents,
     face_areas,
     mollify,
+    triangle_slack,
 )
 from .operators import Operators, laplacian_from_weights
 from .parts import in_part_units, part_means, unit_exponents, vertex_components
@@ -40,6 +41,15 @@ from .weld import weld_map, weld_tolerance
 #: heat method's error markedly (measured: spot 2.1% -> 1.2%, homer 2.2% ->
 #: 1.5%, see docs/accuracy.md); finer meshes are accurate without it.
 AUTO_REFINE_MIN_VERTICES = 11000
+
+#: Smallest triangle slack ``l_a + l_b - l_c`` (relative to the part's mean
+#: edge length) the operators may keep. A part whose triangles are still
+#: thinner after the intrinsic Delaunay flips (a strip 1e-8 wide, which no flip
+#: can mend) gives cotangent weights of 1e5 and more, and the linear solves
+#: lose every digit: it is mollified to this slack instead of 1e-6, which
+#: lengthens its edges by at most 0.1% of the mean edge length. No shared test
+#: mesh comes near it (their smallest slack after the flips: 4e-3 to 0.13).
+THIN_TRIANGLE_SLACK = 1e-3
 
 
 def auto_refine_levels(n_vertices, min_vertices=AUTO_REFINE_MIN_VERTICES):
@@ -156,6 +166,10 @@ class TriangleMesh(MeshDomain):
     mollification : (n_parts,) float array
         Length added to every edge of each part by mollification, in the
         input's units (0 for clean parts).
+    thin_parts : int array
+        Parts whose triangles were too thin to solve accurately as they are,
+        mollified more strongly (see ``THIN_TRIANGLE_SLACK``; robust meshes
+        only: ``robust=False`` keeps the plain cotan operators as they are).
     intrinsic : IntrinsicTriangulation
         The triangulation the operators are built on (faces index operator
         vertices; lengths in each part's unit).
@@ -236,15 +250,27 @@ class TriangleMesh(MeshDomain):
         # Work at unit mean edge length so results scale exactly with the mesh.
         face_part = part[F[:, 0]]
         face_h = h[face_part][:, None]
-        lengths, eps = mollify(edge_lengths[side_edge] / face_h, part=face_part, n_parts=self.n_parts)
+        unit_lengths = edge_lengths[side_edge] / face_h
+        tri, eps = self._intrinsic(unit_lengths, F, side_edge, face_part, 1e-6)
+        least = np.full(self.n_parts, np.inf)
+        np.minimum.at(least, face_part, triangle_slack(tri.lengths).min(axis=1))  # a flip keeps a face in its part
+        self.thin_parts = np.flatnonzero(least < THIN_TRIANGLE_SLACK) if self.robust else np.zeros(0, np.int64)
+        if self.thin_parts.size:
+            delta = np.where(least < THIN_TRIANGLE_SLACK, THIN_TRIANGLE_SLACK, 1e-6)
+            tri, eps = self._intrinsic(unit_lengths, F, side_edge, face_part, delta)
         self.mollification = np.ldexp(eps * h, self.unit_exponent)
-        tri = IntrinsicTriangulation.from_mesh(None, F, lengths=lengths, side_edge=side_edge)
         # Only the build needs the refined mesh's edges (1M vertices: 48-96 MB).
         self.subdivision = dataclasses.replace(sub, mesh_edges=None, side_edge=None)
-        self.n_flips = tri.flip_to_delaunay() if self.robust else 0
-        tri.lengths *= face_h  # a flip keeps a face row in its part
+        tri.lengths *= face_h
         self.intrinsic = tri
         return triangle_operators(tri.lengths, tri.faces, n, boundary, h[part], self.unit_exponent[part])
+
+    def _intrinsic(self, unit_lengths, faces, side_edge, face_part, relative_delta):
+        """Mollified (per part) and, when robust, intrinsic Delaunay triangulation; and the mollification."""
+        lengths, eps = mollify(unit_lengths, relative_delta, part=face_part, n_parts=self.n_parts)
+        tri = IntrinsicTriangulation.from_mesh(None, faces, lengths=lengths, side_edge=side_edge)
+        self.n_flips = tri.flip_to_delaunay() if self.robust else 0
+        return tri, eps
 
     def source_pins(self, vertices=None, *, face_points=None, edges=None, faces=None):
         """Turn a source specification into :class:`SourcePins` on the operator vertices.
