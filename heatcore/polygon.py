@@ -47,6 +47,7 @@ from .domain import MeshDomain
 from .errors import HeatcoreWarning, InvalidMeshError, InvalidSourceError
 from .intrinsic import IntrinsicTriangulation, face_edge_lengths, mollify
 from .operators import Operators
+from .polygon_shape import fan_triangulate, simple_polygons  # noqa: F401 (fan_triangulate: public here too)
 from .refine import unique_edges
 from .sources import SourcePins, edge_list, index_list
 from .triangle import triangle_operators
@@ -181,34 +182,6 @@ def clean_polygons(offsets, indices):
     return np.r_[0, np.cumsum(new_sizes[kept])].astype(np.int64), indices[keep_entry], kept
 
 
-def fan_triangulate(offsets, indices):
-    """Split each polygon into the triangles ``(c_0, c_i, c_{i+1})`` fanned from its first corner.
-
-    Parameters
-    ----------
-    offsets : (m + 1,) int array
-    indices : (offsets[-1],) int array
-
-    Returns
-    -------
-    triangles : (sum(k - 2), 3) int array
-    polygon : (sum(k - 2),) int array, the polygon each triangle comes from
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> fan_triangulate(np.array([0, 4, 7]), np.array([0, 1, 2, 3, 1, 4, 2]))[0].tolist()
-    [[0, 1, 2], [0, 2, 3], [1, 4, 2]]
-    """
-    sizes = np.diff(offsets)
-    n_tri = np.maximum(sizes - 2, 0)
-    polygon = np.repeat(np.arange(sizes.size), n_tri)
-    first = offsets[:-1][polygon]
-    step = np.arange(polygon.size) - np.repeat(np.r_[0, np.cumsum(n_tri)[:-1]], n_tri)
-    tri = np.stack([indices[first], indices[first + step + 1], indices[first + step + 2]], axis=1)
-    return tri, polygon
-
-
 def area_minimizer_weights(X):
     """Affine weights of the virtual vertex of polygons of one size (Bunge et al. 2020, eq. 3).
 
@@ -269,6 +242,11 @@ class PolygonMesh(MeshDomain):
         Build the refined triangle operators on the intrinsic Delaunay
         triangulation of the refinement (see the module docstring). The
         default gives the paper's operators.
+    split_crossing : bool, default False
+        A polygon whose sides cross (a bowtie, a pentagram) has no surface
+        for virtual refinement to span: by default it is an
+        :class:`~heatcore.InvalidMeshError` naming it; ``True`` uses its fan
+        triangles instead, with a warning (beast.obj has 24 such quads).
 
     Attributes
     ----------
@@ -303,7 +281,7 @@ class PolygonMesh(MeshDomain):
 
     element_name = "polygon"
 
-    def __init__(self, V, polygons, *, delaunay=False):
+    def __init__(self, V, polygons, *, delaunay=False, split_crossing=False):
         self.vertices = vertex_array(V)
         n = self.vertices.shape[0]
         offsets, indices = polygon_arrays(polygons, n)
@@ -313,19 +291,19 @@ class PolygonMesh(MeshDomain):
             raise InvalidMeshError("no polygon has three distinct corners: the mesh has no area")
         self.polygon_map = np.full(kept.size, -1, dtype=np.int64)
         self.polygon_map[kept] = np.arange(int(kept.sum()))
+        offsets, indices = simple_polygons(self.vertices, self.offsets, self.indices, np.flatnonzero(kept), split_crossing)
         used = np.unique(self.indices)
         self.vertex_map = np.full(n, -1, dtype=np.int64)
         self.vertex_map[used] = np.arange(used.size)
         self.delaunay = bool(delaunay)
-        self.operators = self._build_operators(self.vertices[used], self.vertex_map[self.indices])
+        self.operators = self._build_operators(self.vertices[used], offsets, self.vertex_map[indices])
 
     @property
     def n_polygons(self):
         """Number of polygons kept."""
         return self.offsets.size - 1
 
-    def _build_operators(self, X, corners):
-        offsets = self.offsets
+    def _build_operators(self, X, offsets, corners):
         n = X.shape[0]
         sizes = np.diff(offsets)
         m = sizes.size

@@ -73,8 +73,8 @@ def run(V, polygons, sources, exact, tmp):
     offsets, idx = polygon_arrays(polygons, len(V))
     F = fan_triangulate(offsets, idx)[0]
     solvers = {
-        "PolygonMesh": lambda: PolygonMesh(V, polygons),
-        "PolygonMesh delaunay": lambda: PolygonMesh(V, polygons, delaunay=True),
+        "PolygonMesh": lambda: PolygonMesh(V, polygons, split_crossing=True),
+        "PolygonMesh delaunay": lambda: PolygonMesh(V, polygons, delaunay=True, split_crossing=True),
         "TriangleMesh fan refine=0": lambda: hc.TriangleMesh(V, F, refine=0),
         "TriangleMesh fan default": lambda: hc.TriangleMesh(V, F),
     }
@@ -125,7 +125,7 @@ def pictures(images):
     plt.close(fig)
 
     m = load_polygons("beast")
-    d = hc.HeatSolver(PolygonMesh(m.vertices, m.polygons)).distance([0])
+    d = hc.HeatSolver(PolygonMesh(m.vertices, m.polygons, split_crossing=True)).distance([0])
     F = fan_triangulate(m.offsets, m.indices)[0]
     render_distance(
         images / "polygon_beast.png",
