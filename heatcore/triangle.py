@@ -14,12 +14,13 @@ Examples
 """
 
 import dataclasses
+import warnings
 
 import numpy as np
 import scipy.sparse as sp
 
 from .domain import MeshDomain
-from .errors import InvalidMeshError, InvalidOptionError, InvalidSourceError
+from .errors import HeatcoreWarning, InvalidMeshError, InvalidOptionError, InvalidSourceError
 from .intrinsic import (
     NEXT,
     PREV,
@@ -52,6 +53,49 @@ AUTO_REFINE_MIN_VERTICES = 11000
 THIN_TRIANGLE_SLACK = 1e-3
 
 
+#: ``refine="auto"`` refines each part on its own, but all parts together to at
+#: most this many vertices: a soup of thousands of loose triangles (or
+#: thousands of small parts) would otherwise grow to tens of millions. Past it
+#: every part is refined to at most the same, smaller, number of levels.
+AUTO_REFINE_BUDGET = 1_000_000
+
+
+def refined_size(n_vertices, levels):
+    """Vertex count of a closed part of ``n_vertices`` vertices after ``levels`` midpoint subdivisions (about).
+
+    Examples
+    --------
+    >>> refined_size(np.array([2930, 3]), np.array([1, 2])).tolist()
+    [11714, 18]
+    """
+    n = np.array(n_vertices, dtype=np.int64)
+    for level in range(int(np.max(levels, initial=0))):
+        n = np.where(level < levels, np.where(n > 3, 4 * n - 6, 2 * n), n)
+    return n
+
+
+def budgeted_levels(n_vertices, levels, budget=AUTO_REFINE_BUDGET):
+    """``levels`` per part, capped alike where all parts together would pass ``budget`` vertices.
+
+    Returns
+    -------
+    levels : (k,) int array
+    cap : int or None
+        The cap applied (None when the budget holds).
+
+    Examples
+    --------
+    >>> budgeted_levels(np.full(1000, 3), np.full(1000, 7))
+    (array([4, 4, 4, ..., 4, 4, 4]), 4)
+    """
+    cap = int(np.max(levels, initial=0))
+    if refined_size(n_vertices, levels).sum() <= budget:
+        return levels, None
+    while cap > 0 and refined_size(n_vertices, np.minimum(levels, cap)).sum() > budget:
+        cap -= 1
+    return np.minimum(levels, cap), cap
+
+
 def auto_refine_levels(n_vertices, min_vertices=AUTO_REFINE_MIN_VERTICES):
     """Midpoint subdivision levels that bring a mesh (or each part) to at least ``min_vertices`` vertices.
 
@@ -72,10 +116,8 @@ def auto_refine_levels(n_vertices, min_vertices=AUTO_REFINE_MIN_VERTICES):
     """
     n = np.array(n_vertices, dtype=np.int64)
     levels = np.zeros_like(n)
-    while (n < min_vertices).any():
-        grow = n < min_vertices
-        n = np.where(grow, np.where(n > 3, 4 * n - 6, 2 * n), n)
-        levels += grow
+    while (refined_size(n, levels) < min_vertices).any():
+        levels += refined_size(n, levels) < min_vertices
     return int(levels) if levels.ndim == 0 else levels
 
 
@@ -222,7 +264,16 @@ class TriangleMesh(MeshDomain):
             V_used, F_used = self.vertices[used], compact[faces[kept]]
         self.n_parts, part = vertex_components(F_used, used.size)
         if refine == "auto":
-            self.part_levels = auto_refine_levels(np.bincount(part, minlength=self.n_parts))
+            sizes = np.bincount(part, minlength=self.n_parts)
+            self.part_levels, cap = budgeted_levels(sizes, auto_refine_levels(sizes))
+            if cap is not None:
+                warnings.warn(
+                    f"refine='auto': {self.n_parts:,} parts refined to at most {cap} levels each (not the "
+                    f"{AUTO_REFINE_MIN_VERTICES:,} vertices a part gets alone), to stay under "
+                    f"{AUTO_REFINE_BUDGET:,} vertices in all; pass refine=LEVELS to choose",
+                    HeatcoreWarning,
+                    stacklevel=2,
+                )
         else:
             self.part_levels = np.full(self.n_parts, int(refine), dtype=np.int64)
         self.levels = int(self.part_levels.max())
