@@ -47,6 +47,7 @@ from .domain import MeshDomain
 from .errors import HeatcoreWarning, InvalidMeshError, InvalidSourceError
 from .intrinsic import IntrinsicTriangulation, face_edge_lengths, mollify
 from .operators import Operators
+from .parts import part_means, vertex_components
 from .polygon_shape import fan_triangulate, simple_polygons  # noqa: F401 (fan_triangulate: public here too)
 from .refine import unique_edges
 from .sources import SourcePins, edge_list, index_list
@@ -267,8 +268,10 @@ class PolygonMesh(MeshDomain):
         Polygons with more than three corners (each has a virtual vertex).
     n_flips : int
         Intrinsic Delaunay flips on the refinement (0 unless ``delaunay=True``).
-    mollification : float
-        Length added to every refined edge (0 for a clean mesh).
+    mollification : (n_parts,) float array
+        Length added to every refined edge of each connected part (0 for a
+        clean part). Each part also gets its own mean edge length ``h``
+        (the time step's), as in :class:`~heatcore.TriangleMesh`.
 
     Examples
     --------
@@ -315,9 +318,10 @@ class PolygonMesh(MeshDomain):
         edges = np.stack([keys // n, keys % n], axis=1)
         boundary = np.zeros(n, dtype=bool)
         boundary[edges[counts == 1].ravel()] = True
-        h = float(np.linalg.norm(X[edges[:, 0]] - X[edges[:, 1]], axis=1).mean())
-        if not h > 0.0:
-            raise InvalidMeshError("all edges have zero length: the mesh collapses to a point")
+        count, part = vertex_components(edges, n)  # each connected part its own h
+        h = part_means(np.linalg.norm(X[edges[:, 0]] - X[edges[:, 1]], axis=1), part[edges[:, 0]], count)
+        if not (h > 0.0).all():
+            raise InvalidMeshError("all edges have zero length: the mesh (or one of its parts) collapses to a point")
         self.polygon_edges = edges
 
         # virtual vertices, grouped by polygon size
@@ -329,7 +333,7 @@ class PolygonMesh(MeshDomain):
         for k in np.unique(sizes[big]):
             polys = np.flatnonzero(sizes == k)
             pos = offsets[polys][:, None] + np.arange(k)
-            weights[pos] = area_minimizer_weights(X[corners[pos]] / h)
+            weights[pos] = area_minimizer_weights(X[corners[pos]] / h[part[corners[pos[:, 0]]]][:, None, None])
         self.weights = weights
         owner = np.repeat(np.arange(m), sizes)
         is_virtual = big[owner]
@@ -347,11 +351,13 @@ class PolygonMesh(MeshDomain):
         F = np.concatenate([tri, fan])
         self.refined_faces = F
 
-        lengths, eps = mollify(face_edge_lengths(self.refined_vertices, F) / h)
+        face_part = part[F[:, 0]]  # the first corner of a fan triangle is a polygon corner
+        face_h = h[face_part][:, None]
+        lengths, eps = mollify(face_edge_lengths(self.refined_vertices, F) / face_h, part=face_part, n_parts=count)
         self.mollification = eps * h
         intrinsic = IntrinsicTriangulation.from_mesh(None, F, lengths=lengths, side_edge=unique_edges(F)[1])
         self.n_flips = intrinsic.flip_to_delaunay() if self.delaunay else 0
-        fan_ops = triangle_operators(intrinsic.lengths * h, intrinsic.faces, N, np.zeros(N, bool), h)
+        fan_ops = triangle_operators(intrinsic.lengths * face_h, intrinsic.faces, N, np.zeros(N, bool), 1.0)
 
         L = (P.T @ fan_ops.laplacian @ P).tocsr()
         L = 0.5 * (L + L.T)
@@ -359,12 +365,14 @@ class PolygonMesh(MeshDomain):
         # Negative weights (strongly non-convex polygons) could in principle leave a
         # vertex without mass; give it the mass of its own fan triangles then.
         own = fan_ops.mass[:n]
-        mass = np.where(mass > 1e-12 * own.max(), mass, own)
+        largest = np.zeros(count)
+        np.maximum.at(largest, part, own)
+        mass = np.where(mass > 1e-12 * largest[part], mass, own)
         G = (fan_ops.gradient @ P).tocsr()
         # elements for connectivity: virtual vertices stand in for their polygon's first corner
         stand_in = np.r_[np.arange(n), corners[offsets[:-1][big]]]
         elements = stand_in[intrinsic.faces]
-        return Operators(L, mass, G, fan_ops.volumes, 2, boundary, elements, h)
+        return Operators(L, mass, G, fan_ops.volumes, 2, boundary, elements, h[part])
 
     def source_pins(self, vertices=None, *, edges=None, faces=None):
         """Turn a source specification into :class:`~heatcore.sources.SourcePins`.

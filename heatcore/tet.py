@@ -42,6 +42,7 @@ import scipy.sparse as sp
 from .domain import MeshDomain
 from .errors import HeatcoreWarning, InvalidMeshError, InvalidSourceError
 from .operators import Operators, laplacian_from_weights
+from .parts import part_means, vertex_components
 from .sources import SourcePins, barycentric_array, index_list
 from .validate import clean_elements, index_array, vertex_array
 
@@ -208,7 +209,9 @@ def tet_operators(V, T, boundary):
     vol = signed_volumes(V, T)
     mass = np.bincount(T.ravel(), weights=np.repeat(vol / 4.0, 4), minlength=n)
     edges = np.unique(np.sort(T[:, TET_EDGES].reshape(-1, 2), axis=1), axis=0)
-    h = float(np.linalg.norm(V[edges[:, 0]] - V[edges[:, 1]], axis=1).mean())
+    count, part = vertex_components(T, n)
+    lengths = np.linalg.norm(V[edges[:, 0]] - V[edges[:, 1]], axis=1)
+    h = part_means(lengths, part[edges[:, 0]], count)[part]  # each part its own time step
     return Operators(cotan_laplacian(V, T), mass, tet_gradient(V, T), vol, 3, boundary, T, h)
 
 

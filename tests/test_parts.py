@@ -172,3 +172,22 @@ def test_welding_reports_every_input_vertex(spot):
         warnings.simplefilter("error")
         d = hc.geodesic_distance(W, F, [0])
     np.testing.assert_array_equal(d[-5:], d[:5])
+
+
+def test_tet_and_polygon_parts_get_their_own_time_step():
+    """Two copies of a domain, one 128 times smaller: each copy's distances as alone (scaled)."""
+    from heatcore.tet import TetMesh
+
+    from scipy.spatial import Delaunay
+
+    V = np.stack(np.meshgrid(*[np.arange(4.0)] * 3, indexing="ij"), -1).reshape(-1, 3)
+    V = V + np.random.default_rng(1).uniform(-0.2, 0.2, V.shape)
+    T = Delaunay(V).simplices
+    quads = [[a, a + 1, a + 6, a + 5] for a in (5 * y + x for y in range(4) for x in range(4))]
+    Q = np.array([[x, y, 0.1 * x * y] for y in range(5) for x in range(5)], float)
+    for make, (P, E) in ((TetMesh, (V, T)), (PolygonMesh, (Q, np.array(quads)))):
+        alone = hc.HeatSolver(make(P, E)).distance([0])
+        n = len(P)
+        both = hc.HeatSolver(make(np.vstack([P, P / 128 + 50]), np.vstack([E, E + n]))).distance([0, n])
+        np.testing.assert_allclose(both[:n], alone, rtol=1e-9)
+        np.testing.assert_allclose(both[n:], alone / 128, rtol=1e-9)
