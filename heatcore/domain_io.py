@@ -100,6 +100,10 @@ def read_domain(path, kind="auto"):
     path = Path(path)
     check_not_empty(path)
     suffix = path.suffix.lower()
+    if suffix == ".ply":  # every reader below hangs on a PLY header without end_header
+        from .ply import read_header
+
+        read_header(path)
     if kind == "tet" or (kind == "auto" and suffix in VOLUME_SUFFIXES):
         from .tet_io import read_tet_mesh
 

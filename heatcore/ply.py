@@ -84,10 +84,10 @@ def read_header(path):
     with open(path, "rb") as f:
         head = f.read(MAX_HEADER_BYTES)
     if head.split(b"\n", 1)[0].strip() != b"ply":
-        raise InvalidMeshError(f"{path} is not a PLY file (it does not start with 'ply')")
+        raise InvalidMeshError(f"cannot read {path}: not a PLY file (it does not start with 'ply')")
     end = head.find(b"end_header")
     if end < 0:
-        raise InvalidMeshError(f"{path}: the PLY header has no end_header line (a truncated file?)")
+        raise InvalidMeshError(f"cannot read {path}: the PLY header has no end_header line (a truncated file?)")
     size = head.find(b"\n", end) + 1 or len(head)
     fmt, elements = None, []
     for raw in head[:end].split(b"\n")[1:]:

@@ -99,6 +99,9 @@ def _read_ply(path):
 
     import meshio.ply
 
+    from .ply import read_header
+
+    read_header(path)  # meshio hangs on a header without end_header
     with contextlib.redirect_stdout(io.StringIO()):  # meshio prints its own errors
         mesh = meshio.ply.read(str(path))  # not meshio.read: it prints the reason and exits
     points = np.asarray(mesh.points, dtype=float)

@@ -87,6 +87,10 @@ def read_polygon_mesh(path):
     path = Path(path)
     if not path.is_file():
         raise InvalidMeshError(f"mesh file not found: {path}")
+    if path.suffix.lower() == ".ply":  # both readers hang on a header without end_header
+        from .ply import read_header
+
+        read_header(path)
     errors = []
     for reader in (_read_potpourri3d, _read_meshio):
         try:

@@ -183,7 +183,7 @@ def test_progress_lines_and_png(sphere_obj, tmp_path, capsys):
     "case, message, status",
     [
         ("missing", "mesh file not found", 1),
-        ("garbage", "garbage.ply is not a PLY file (it does not start with 'ply')", 1),
+        ("garbage", "garbage.ply: not a PLY file (it does not start with 'ply')", 1),
         ("out-of-range", "source vertex 5000 is out of range: the mesh has 162 vertices", 1),
         ("negative", "argument -s/--source: vertex indices are 0-based, got -1", 2),
         ("no-sources", "no sources", 1),

@@ -125,8 +125,8 @@ BAD_FILES = {
     "empty.vtk": (b"", "{p} is empty (0 bytes)"),
     "empty.msh": (b"", "{p} is empty (0 bytes)"),
     "novertex.ply": (_header(0, 0).encode(), "{p} holds no vertices (its PLY header declares element vertex 0)"),
-    "noheader.ply": (b"ply\nformat ascii 1.0\nelement vertex 3\n", "{p}: the PLY header has no end_header line (a truncated file?)"),
-    "text.ply": (b"solid cube\nfacet normal 0 0 1\n", "{p} is not a PLY file (it does not start with 'ply')"),
+    "noheader.ply": (b"ply\nformat ascii 1.0\nelement vertex 3\n", "cannot read {p}: the PLY header has no end_header line (a truncated file?)"),
+    "text.ply": (b"solid cube\nfacet normal 0 0 1\n", "cannot read {p}: not a PLY file (it does not start with 'ply')"),
     "nostrips.ply": (b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                      b"property float z\nelement tristrips 1\nproperty list int int vertex_indices\nend_header\n"
                      b"0 0 0\n1 0 0\n0 1 0\n3 -1 -1 -1\n", "{p} holds no triangles (its triangle strips are empty)"),
@@ -172,3 +172,17 @@ def test_reader_messages_are_capped(tmp_path, capsys):
     assert code == 1 and stdout == ""
     assert err.startswith(f"heatcore: error: cannot read mesh file {path}: Expected `element vertex` or ")
     assert len(err.splitlines()) == 1 and len(err) == len(f"heatcore: error: cannot read mesh file {path}: ") + 301
+
+
+@pytest.mark.parametrize("domain", ["auto", "triangle", "polygon", "tet", "points"])
+def test_header_without_end_is_refused_for_every_domain(domain, tmp_path):
+    """meshio and potpourri3d loop forever on such a header: a subprocess with a time limit checks it."""
+    import subprocess
+    import sys
+
+    path = tmp_path / "cut.ply"
+    path.write_text("ply\nformat ascii 1.0\nelement vertex 3\n")
+    proc = subprocess.run([sys.executable, "-m", "heatcore", "distance", str(path), "--domain", domain, "-s", "0",
+                           "-o", str(tmp_path / "d.npy"), "-q"], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 1 and proc.stdout == ""
+    assert proc.stderr == f"heatcore: error: cannot read {path}: the PLY header has no end_header line (a truncated file?)\n"
