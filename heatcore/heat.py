@@ -35,6 +35,10 @@ log = logging.getLogger("heatcore")
 BOUNDARY_CONDITIONS = ("robin", "neumann", "dirichlet")
 ACCURACY_MODES = ("smooth", "high")
 
+#: A heat gradient smaller than this times ``u / h`` is rounding noise (an exact
+#: saddle of the heat) and gets no direction in the unit field.
+SADDLE_GRADIENT = 1e-9
+
 #: Up to this many pinned vertices, the pinned Poisson solve reuses the
 #: prefactored Laplacian (one multi-right-hand-side solve); beyond, it factors
 #: the pinned system for that query.
@@ -144,6 +148,7 @@ class HeatSolver:
         h = np.broadcast_to(ops.mean_edge_length, (n,))
         step = self.part_m[self.component] * h * h  # in each vertex's unit; constant on each component
         self._time_step = step[0] if (step == step[0]).all() else step
+        self._element_h = h[0] if (h == h[0]).all() else h[ops.elements[:, 0]]
         self.t = np.ldexp(step[ground], 2 * np.broadcast_to(ops.unit_exponent, (n,))[ground])
         self._gradient_transposed = ops.gradient.T  # a view: -div X = G^T (volumes * X)
         self._factor_heat(self._resolve(backend, "factor"))
@@ -251,6 +256,11 @@ class HeatSolver:
             for k in range(2, g.shape[1]):
                 redo = np.hypot(redo, g[tiny, k])
             norm[tiny] = np.where(redo > 0, redo, np.inf)  # a zero gradient gets X = 0
+        # A gradient below the rounding of u itself (an exact saddle of the heat, as at the far point
+        # of a symmetric part: 2e-15 of u per edge length there, 5e-3 and more elsewhere) has no
+        # direction: X = 0 there, not a direction made of rounding noise that any change of
+        # elimination order (another part beside it) would turn elsewhere.
+        norm[norm * self._element_h < SADDLE_GRADIENT * u[self.ops.elements[:, 0]]] = np.inf
         scale = np.negative(weights) / norm
         for column in g.T:  # column by column: 3x faster than broadcasting over rows of 2 or 3
             column *= scale
