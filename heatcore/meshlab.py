@@ -82,6 +82,7 @@ def geodesic_distance_from_selection(
     boundary="robin",
     robust=True,
     refine="auto",
+    weld=0.0,
     colormap="viridis",
     isolines=0,
     attribute=DEFAULT_ATTRIBUTE,
@@ -111,6 +112,9 @@ def geodesic_distance_from_selection(
         ``False`` gives plain cotan, as MeshLab's own heat filter uses.
     refine : "auto" or int, default "auto"
         Midpoint subdivision levels before solving (see :class:`heatcore.TriangleMesh`).
+    weld : float or None, default 0.0
+        Merge vertices closer than this (0: at the same position; None:
+        never), see :class:`heatcore.TriangleMesh`.
     colormap : str, default "viridis"
         One of heatcore's colormaps (``viridis``, ``magma``, ``inferno``,
         ``plasma``, ``cividis``), one of MeshLab's ramps (``meshlab-rgb``,
@@ -162,7 +166,7 @@ def geodesic_distance_from_selection(
     kind, sources = _selected_sources(mesh)
 
     if solver is None:
-        domain = TriangleMesh(V, F, robust=robust, refine=refine)
+        domain = TriangleMesh(V, F, robust=robust, refine=refine, weld=weld)
         solver = HeatSolver(domain, m=m, boundary=boundary, **solver_options)
     else:
         _check_solver(solver, V, F)
