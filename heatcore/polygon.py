@@ -87,13 +87,14 @@ def polygon_arrays(polygons, n_vertices):
         and len(polygons) == 2
         and all(isinstance(a, np.ndarray) and a.ndim == 1 for a in polygons)
     ):
-        offsets, indices = (_integers(a, "polygon offsets") for a in polygons)
-        if offsets.size == 0 or offsets[0] != 0 or offsets[-1] != indices.size or np.any(np.diff(offsets) < 0):
+        offsets, indices = _integers(polygons[0], "polygon offsets"), _integers(polygons[1], "polygon indices")
+        if offsets.size == 0 or offsets[0] != 0 or offsets[-1] != indices.size or np.any(offsets[1:] < offsets[:-1]):
             raise InvalidMeshError(
                 "polygon offsets must start at 0, never decrease and end at len(indices) "
                 f"(got {offsets.size} offsets, first {offsets[:1].tolist()}, last {offsets[-1:].tolist()}, "
                 f"{indices.size} indices)"
             )
+        offsets = offsets.astype(np.int64)  # now known to lie in 0..len(indices)
     elif isinstance(polygons, np.ndarray) and polygons.dtype != object:
         if polygons.ndim != 2:
             raise InvalidMeshError(f"a polygon array must have shape (m, k), got {polygons.shape}")
@@ -117,7 +118,7 @@ def polygon_arrays(polygons, n_vertices):
             f"polygon {poly} references vertex {int(indices[pos])} but the mesh has {n_vertices} vertices "
             f"(valid indices are 0..{n_vertices - 1})"
         )
-    return offsets, indices
+    return offsets, indices.astype(np.int64)
 
 
 def _integers(a, name):
@@ -127,7 +128,7 @@ def _integers(a, name):
     if a.size and not np.issubdtype(a.dtype, np.integer):
         if not np.issubdtype(a.dtype, np.floating) or not np.all(np.isfinite(a)) or np.any(a != np.round(a)):
             raise InvalidMeshError(f"{name} must be integers, got dtype {a.dtype}")
-    return a.astype(np.int64).reshape(-1)
+    return a.reshape(-1)  # not cast yet: a uint64 2**64 - 1 would read as -1 in messages
 
 
 def clean_polygons(offsets, indices):

@@ -191,3 +191,11 @@ def test_tet_and_polygon_parts_get_their_own_time_step():
         both = hc.HeatSolver(make(np.vstack([P, P / 128 + 50]), np.vstack([E, E + n]))).distance([0, n])
         np.testing.assert_allclose(both[:n], alone, rtol=1e-9)
         np.testing.assert_allclose(both[n:], alone / 128, rtol=1e-9)
+
+
+def test_polygon_indices_beyond_int64_are_reported_as_given():
+    V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+    with pytest.raises(hc.InvalidMeshError, match="references vertex 18446744073709551615"):
+        PolygonMesh(V, np.array([[0, 1, 2, 2**64 - 1]], dtype=np.uint64))
+    with pytest.raises(hc.InvalidMeshError, match="offsets must start at 0"):
+        PolygonMesh(V, (np.array([0, 2**64 - 1], dtype=np.uint64), np.arange(4)))
