@@ -26,6 +26,7 @@ from concurrent.futures import Future
 
 import numpy as np
 import scipy.sparse as sp
+
 from .errors import InvalidOptionError, SolverError
 from .linalg import Ordering, choose_backend, factor, fill_reducing_ordering, restrict_ordering, start_nested_dissection
 from .parts import hop_diameters, vertex_components, vertex_graph

@@ -50,9 +50,9 @@ from scipy.spatial import cKDTree
 
 from .errors import InvalidMeshError, InvalidOptionError, InvalidSourceError
 from .intrinsic import NEXT, PREV, IntrinsicTriangulation, face_edge_lengths, mollify
-from .refine import midpoint_subdivide
+from .refine import auto_refine_levels, midpoint_subdivide
 from .sources import SourcePins, index_list
-from .triangle import auto_refine_levels, triangle_operators
+from .triangle import triangle_operators
 from .validate import vertex_array
 
 #: Default neighborhood size.

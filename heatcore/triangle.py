@@ -32,16 +32,16 @@ from .intrinsic import (
 )
 from .operators import Operators, laplacian_from_weights
 from .parts import in_part_units, part_means, unit_exponents, vertex_components
-from .refine import midpoint_subdivide
+from .refine import (
+    AUTO_REFINE_BUDGET,
+    AUTO_REFINE_MIN_VERTICES,
+    auto_refine_levels,
+    budgeted_levels,
+    midpoint_subdivide,
+)
 from .sources import SourcePins, barycentric_array, edge_list, index_list
 from .validate import clean_elements, mesh_arrays
 from .weld import weld_map, weld_tolerance
-
-#: ``refine="auto"`` subdivides meshes with fewer vertices than this. On
-#: coarser meshes one level of midpoint subdivision is cheap and lowers the
-#: heat method's error markedly (measured: spot 2.1% -> 1.2%, homer 2.2% ->
-#: 1.5%, see docs/accuracy.md); finer meshes are accurate without it.
-AUTO_REFINE_MIN_VERTICES = 11000
 
 #: Smallest triangle slack ``l_a + l_b - l_c`` (relative to the part's mean
 #: edge length) the operators may keep. A part whose triangles are still
@@ -51,74 +51,6 @@ AUTO_REFINE_MIN_VERTICES = 11000
 #: lengthens its edges by at most 0.1% of the mean edge length. No shared test
 #: mesh comes near it (their smallest slack after the flips: 4e-3 to 0.13).
 THIN_TRIANGLE_SLACK = 1e-3
-
-
-#: ``refine="auto"`` refines each part on its own, but all parts together to at
-#: most this many vertices: a soup of thousands of loose triangles (or
-#: thousands of small parts) would otherwise grow to tens of millions. Past it
-#: every part is refined to at most the same, smaller, number of levels.
-AUTO_REFINE_BUDGET = 1_000_000
-
-
-def refined_size(n_vertices, levels):
-    """Vertex count of a closed part of ``n_vertices`` vertices after ``levels`` midpoint subdivisions (about).
-
-    Examples
-    --------
-    >>> refined_size(np.array([2930, 3]), np.array([1, 2])).tolist()
-    [11714, 18]
-    """
-    n = np.array(n_vertices, dtype=np.int64)
-    for level in range(int(np.max(levels, initial=0))):
-        n = np.where(level < levels, np.where(n > 3, 4 * n - 6, 2 * n), n)
-    return n
-
-
-def budgeted_levels(n_vertices, levels, budget=AUTO_REFINE_BUDGET):
-    """``levels`` per part, capped alike where all parts together would pass ``budget`` vertices.
-
-    Returns
-    -------
-    levels : (k,) int array
-    cap : int or None
-        The cap applied (None when the budget holds).
-
-    Examples
-    --------
-    >>> budgeted_levels(np.full(1000, 3), np.full(1000, 7))
-    (array([4, 4, 4, ..., 4, 4, 4]), 4)
-    """
-    cap = int(np.max(levels, initial=0))
-    if refined_size(n_vertices, levels).sum() <= budget:
-        return levels, None
-    while cap > 0 and refined_size(n_vertices, np.minimum(levels, cap)).sum() > budget:
-        cap -= 1
-    return np.minimum(levels, cap), cap
-
-
-def auto_refine_levels(n_vertices, min_vertices=AUTO_REFINE_MIN_VERTICES):
-    """Midpoint subdivision levels that bring a mesh (or each part) to at least ``min_vertices`` vertices.
-
-    Each level multiplies the vertex count by about four.
-
-    Parameters
-    ----------
-    n_vertices : int or (k,) int array
-
-    Returns
-    -------
-    int, or (k,) int array
-
-    Examples
-    --------
-    >>> auto_refine_levels(2930), auto_refine_levels(np.array([3, 50_000])).tolist()
-    (1, [7, 0])
-    """
-    n = np.array(n_vertices, dtype=np.int64)
-    levels = np.zeros_like(n)
-    while (refined_size(n, levels) < min_vertices).any():
-        levels += refined_size(n, levels) < min_vertices
-    return int(levels) if levels.ndim == 0 else levels
 
 
 def triangle_operators(lengths, faces, n_vertices, boundary, mean_edge_length, unit_exponent=0):

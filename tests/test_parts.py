@@ -176,9 +176,9 @@ def test_welding_reports_every_input_vertex(spot):
 
 def test_tet_and_polygon_parts_get_their_own_time_step():
     """Two copies of a domain, one 128 times smaller: each copy's distances as alone (scaled)."""
-    from heatcore.tet import TetMesh
-
     from scipy.spatial import Delaunay
+
+    from heatcore.tet import TetMesh
 
     V = np.stack(np.meshgrid(*[np.arange(4.0)] * 3, indexing="ij"), -1).reshape(-1, 3)
     V = V + np.random.default_rng(1).uniform(-0.2, 0.2, V.shape)
