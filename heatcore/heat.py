@@ -317,26 +317,29 @@ class HeatSolver:
             everywhere = np.ones(self.ops.n_vertices, dtype=bool)
             return self._factor_pinned(b, P, d, everywhere if reached is None else reached)
         psi = self._solve_grounded(b)
-        comps, local = np.unique(comp_of_pin, return_inverse=True)
-        if comps.size == P.size:  # one pin per component: a shift suffices
-            shift = np.zeros(self.n_components)
-            shift[comp_of_pin] = d - psi[P]
-            psi += shift[self.component] if self.n_components > 1 else shift[0]
-            return psi
-        k, c = P.size, comps.size
-        E = np.zeros((self.ops.n_vertices, k))
-        E[P, np.arange(k)] = 1.0
-        Z = self._solve_grounded(E)
-        # Unknowns: point loads mu at the pins and one constant per component.
-        A = np.zeros((k + c, k + c))
-        A[:k, :k] = Z[P]
-        A[np.arange(k), k + local] = 1.0
-        A[k + local, np.arange(k)] = 1.0
-        rhs = np.r_[d - psi[P], np.zeros(c)]
-        sol = np.linalg.lstsq(A, rhs, rcond=None)[0]
+        # One pin in a component: a shift. Several: point loads mu at its pins and a constant,
+        # one small dense system per component, so that no rounding crosses parts.
+        _, local, count = np.unique(comp_of_pin, return_inverse=True, return_counts=True)
+        single = count[local] == 1
         shift = np.zeros(self.n_components)
-        shift[comps] = sol[k:]
-        return psi + Z @ sol[:k] + shift[self.component]
+        shift[comp_of_pin[single]] = d[single] - psi[P[single]]
+        several = np.flatnonzero(~single)
+        if several.size:
+            E = np.zeros((self.ops.n_vertices, several.size))
+            E[P[several], np.arange(several.size)] = 1.0
+            Z = self._solve_grounded(E)  # column j is zero outside the component of its pin
+            mu = np.zeros(several.size)
+            for c in np.unique(comp_of_pin[several]):
+                cols = np.flatnonzero(comp_of_pin[several] == c)
+                k = cols.size
+                A = np.zeros((k + 1, k + 1))
+                A[:k, :k] = Z[P[several[cols]]][:, cols]
+                A[:k, k] = A[k, :k] = 1.0
+                sol = np.linalg.lstsq(A, np.r_[d[several[cols]] - psi[P[several[cols]]], 0.0], rcond=None)[0]
+                mu[cols], shift[c] = sol[:k], sol[k]
+            psi += Z @ mu
+        psi += shift[self.component] if self.n_components > 1 else shift[0]
+        return psi
 
     def _factor_pinned(self, b, P, d, reached):
         """Pinned Poisson solve with a factorization of its own (many pinned vertices)."""
