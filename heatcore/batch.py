@@ -202,7 +202,7 @@ def process_mesh(task):
 
 
 def _process(task):
-    from .cli import read_mesh_file, read_sources_file
+    from .inputs import read_mesh_file, read_sources_file
     from .heat import HeatSolver
 
     spec = task.spec

@@ -35,7 +35,7 @@ import numpy as np
 
 from .errors import HeatcoreError, HeatcoreWarning, InvalidMeshError
 from .io import short
-from .inputs import (  # noqa: F401 (read_mesh_file, read_sources_file: used by heatcore.batch)
+from .inputs import (
     _non_negative_float,
     _non_negative_int,
     _positive_float,
@@ -45,7 +45,6 @@ from .inputs import (  # noqa: F401 (read_mesh_file, read_sources_file: used by 
     command_line_sources,
     gather_sources,
     read_mesh_file,
-    read_sources_file,
 )
 from .outputs import (  # noqa: F401 (check_outputs_fit, OUTPUT_SUFFIXES: part of this module's API)
     OUTPUT_SUFFIXES,
