@@ -39,3 +39,13 @@ def load_shared_mesh(name):
 @pytest.fixture
 def spot():
     return load_shared_mesh("spot")
+
+
+# Hypothesis profiles (tests/test_properties.py): "ci" is the default; HYPOTHESIS_PROFILE=local runs many more examples.
+from hypothesis import HealthCheck, settings
+
+_SLOW_OK = [HealthCheck.too_slow, HealthCheck.data_too_large, HealthCheck.filter_too_much]
+_COMMON = {"deadline": None, "print_blob": True, "suppress_health_check": _SLOW_OK}
+settings.register_profile("ci", max_examples=6, derandomize=True, database=None, **_COMMON)
+settings.register_profile("local", max_examples=300, **_COMMON)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
