@@ -29,7 +29,7 @@ import scipy.sparse as sp
 
 from .errors import InvalidOptionError, SolverError
 from .linalg import Ordering, choose_backend, factor, fill_reducing_ordering, restrict_ordering, start_nested_dissection
-from .parts import hop_diameters, vertex_components, vertex_graph
+from .parts import first_of_each, hop_diameters, vertex_components, vertex_graph
 
 log = logging.getLogger("heatcore")
 
@@ -143,8 +143,7 @@ class HeatSolver:
                 self.m,
                 self.m_effective,
             )
-        ground = np.full(self.n_components, n, dtype=np.int64)
-        np.minimum.at(ground, self.component, np.arange(n))
+        ground = first_of_each(self.component, self.n_components)
         self._ground = ground
         h = np.broadcast_to(ops.mean_edge_length, (n,))
         step = self.part_m[self.component] * h * h  # in each vertex's unit; constant on each component

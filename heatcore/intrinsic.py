@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .parts import part_means
+from .parts import part_extremes, part_means
 from .refine import unique_edges
 
 NEXT = np.array([1, 2, 0])
@@ -128,8 +128,7 @@ def mollify(lengths, relative_delta=1e-6, part=None, n_parts=1):
         eps = max(0.0, float(delta - slack.min()))
         return lengths + eps, eps
     delta = relative_delta * part_means(lengths.ravel(), np.repeat(part, 3), n_parts)
-    least = np.full(n_parts, np.inf)
-    np.minimum.at(least, part, slack.min(axis=1))
+    least = part_extremes(slack.min(axis=1), part, n_parts)
     eps = np.maximum(0.0, np.where(np.isfinite(least), delta - least, 0.0))
     return lengths + eps[part][:, None], eps
 
@@ -200,8 +199,10 @@ class IntrinsicTriangulation:
             f0, f1 = h // 3, t // 3
             # The tolerance follows the rounding of the cotangents, (a^2 + b^2 - c^2) / 4A: on needle
             # triangles it is large, and two cocircular configurations would otherwise flip forever.
-            rounding = _cotangent_rounding(self.lengths, f0) + _cotangent_rounding(self.lengths, f1)
-            bad = (cot_sum < -tol * rounding) & (f0 != f1)
+            bad = (cot_sum < -tol) & (f0 != f1)  # the rounding scale is >= sqrt(3): only these can pass
+            bad[bad] = cot_sum[bad] < -tol * (
+                _cotangent_rounding(self.lengths, f0[bad]) + _cotangent_rounding(self.lengths, f1[bad])
+            )
             if not bad.any():
                 break
             h, t, f0, f1, score = h[bad], t[bad], f0[bad], f1[bad], cot_sum[bad]

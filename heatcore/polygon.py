@@ -47,7 +47,7 @@ from .domain import MeshDomain
 from .errors import HeatcoreWarning, InvalidMeshError, InvalidSourceError
 from .intrinsic import IntrinsicTriangulation, face_edge_lengths, mollify
 from .operators import Operators
-from .parts import part_means, vertex_components
+from .parts import part_extremes, part_means, vertex_components
 from .polygon_shape import fan_triangulate, simple_polygons  # noqa: F401 (fan_triangulate: public here too)
 from .refine import unique_edges
 from .sources import SourcePins, edge_list, index_list
@@ -366,8 +366,7 @@ class PolygonMesh(MeshDomain):
         # Negative weights (strongly non-convex polygons) could in principle leave a
         # vertex without mass; give it the mass of its own fan triangles then.
         own = fan_ops.mass[:n]
-        largest = np.zeros(count)
-        np.maximum.at(largest, part, own)
+        largest = part_extremes(own, part, count, largest=True)
         mass = np.where(mass > 1e-12 * largest[part], mass, own)
         G = (fan_ops.gradient @ P).tocsr()
         # elements for connectivity: virtual vertices stand in for their polygon's first corner

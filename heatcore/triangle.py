@@ -31,7 +31,7 @@ from .intrinsic import (
     triangle_slack,
 )
 from .operators import Operators, laplacian_from_weights
-from .parts import in_part_units, part_means, unit_exponents, vertex_components
+from .parts import in_part_units, part_extremes, part_means, unit_exponents, vertex_components
 from .refine import (
     AUTO_REFINE_BUDGET,
     AUTO_REFINE_MIN_VERTICES,
@@ -235,8 +235,7 @@ class TriangleMesh(MeshDomain):
         face_h = h[face_part][:, None]
         unit_lengths = edge_lengths[side_edge] / face_h
         tri, eps = self._intrinsic(unit_lengths, F, side_edge, face_part, 1e-6)
-        least = np.full(self.n_parts, np.inf)
-        np.minimum.at(least, face_part, triangle_slack(tri.lengths).min(axis=1))  # a flip keeps a face in its part
+        least = part_extremes(triangle_slack(tri.lengths).min(axis=1), face_part, self.n_parts)  # flips keep parts
         self.thin_parts = np.flatnonzero(least < THIN_TRIANGLE_SLACK) if self.robust else np.zeros(0, np.int64)
         if self.thin_parts.size:
             delta = np.where(least < THIN_TRIANGLE_SLACK, THIN_TRIANGLE_SLACK, 1e-6)

@@ -71,11 +71,10 @@ def weld_map(V, tolerance=0.0):
         pairs = cKDTree(V).query_pairs(tolerance, output_type="ndarray")
         graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
         _, group = connected_components(graph, directed=False)
+        first = np.unique(group, return_index=True)[1]
     else:
         rows = np.ascontiguousarray(V + 0.0)  # + 0.0 turns -0.0 into 0.0
-        _, group = np.unique(rows.view(np.dtype((np.void, rows.itemsize * rows.shape[1]))).ravel(), return_inverse=True)
-        group = group.ravel()
-    first = np.full(group.max() + 1, n, dtype=np.int64)
-    np.minimum.at(first, group, np.arange(n))
-    representative = first[group]
+        keys = rows.view(np.dtype((np.void, rows.itemsize * rows.shape[1]))).ravel()
+        _, first, group = np.unique(keys, return_index=True, return_inverse=True)
+    representative = first[group.ravel()]  # the smallest index of each group
     return representative, int(n - first.size)
