@@ -135,6 +135,9 @@ class TriangleMesh(MeshDomain):
         Connected parts (after welding).
     part_levels : (n_parts,) int array
         Midpoint subdivision levels of each part; ``levels`` is the largest.
+    unit_exponent : (n_parts,) int array
+        Each part's length unit, ``2**unit_exponent`` (0 for parts of
+        ordinary size; see :func:`heatcore.parts.unit_exponents`).
     n_flips : int
         Edge flips made by the intrinsic Delaunay step.
     mollification : (n_parts,) float array
