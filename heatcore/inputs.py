@@ -30,21 +30,23 @@ from .outputs import CliError
 MAX_INDEX = np.iinfo(np.int64).max
 
 
-def _positive_float(text):
+def _parse(text, kind, what):
+    """``kind(text)``, or an argparse error saying the text is not ``what``."""
     try:
-        value = float(text)
+        return kind(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+        raise argparse.ArgumentTypeError(f"not {what}: {text!r}") from None
+
+
+def _positive_float(text):
+    value = _parse(text, float, "a number")
     if not (np.isfinite(value) and value > 0):
         raise argparse.ArgumentTypeError(f"must be a positive number, got {text!r}")
     return value
 
 
 def _non_negative_float(text):
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    value = _parse(text, float, "a number")
     if not (np.isfinite(value) and value >= 0):
         raise argparse.ArgumentTypeError(f"must be a number >= 0, got {text!r}")
     return value
@@ -63,10 +65,7 @@ def _refine_levels(text):
 
 
 def _vertex_index(text):
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a vertex index: {text!r}") from None
+    value = _parse(text, int, "a vertex index")
     if value < 0:
         raise argparse.ArgumentTypeError(f"vertex indices are 0-based, got {text}")
     if value > MAX_INDEX:
@@ -75,10 +74,7 @@ def _vertex_index(text):
 
 
 def _non_negative_int(text):
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+    value = _parse(text, int, "an integer")
     if value < 0:
         raise argparse.ArgumentTypeError(f"must be >= 0, got {text!r}")
     return value
