@@ -13,6 +13,6 @@ try:
 except ImportError:  # running from the repository: use the installed package
     import heatcore
 
-colormap = importlib.import_module(heatcore.__name__ + ".colormap")
+colormap = importlib.import_module(heatcore.__name__ + ".viz.colormap")
 
-__all__ = ["heatcore", "colormap"]
+__all__ = ["colormap", "heatcore"]

@@ -130,7 +130,7 @@ def compute_geodesic_distance(
         FLOAT_COLOR POINT attribute that receives the colors; it becomes the
         active and render color. None: not written.
     colormap : str
-        A colormap of ``heatcore.colormap.COLORMAPS`` (viridis, magma, ...).
+        A colormap of ``heatcore.viz.colormap.COLORMAPS`` (viridis, magma, ...).
     isolines : int
         Number of dark isoline stripes in the colors (0 for none).
     normalize : bool

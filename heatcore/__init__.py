@@ -9,7 +9,12 @@ Examples
 >>> d1, d2 = solver.distance([0]), solver.distance([5, 9])
 """
 
-from . import io, linalg, tet_io
+from . import io, linalg
+from .domains.operators import Operators
+from .domains.pointcloud import PointCloud
+from .domains.polygon import PolygonMesh
+from .domains.tet import TetMesh
+from .domains.triangle import TriangleMesh
 from .errors import (
     HeatcoreError,
     HeatcoreWarning,
@@ -19,29 +24,23 @@ from .errors import (
     SolverError,
 )
 from .heat import HeatSolver
-from .operators import Operators
-from .pointcloud import PointCloud
-from .polygon import PolygonMesh
-from .tet import TetMesh
-from .triangle import TriangleMesh
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "geodesic_distance",
     "HeatSolver",
-    "TriangleMesh",
-    "PolygonMesh",
-    "TetMesh",
-    "PointCloud",
-    "tet_io",
-    "Operators",
     "HeatcoreError",
     "HeatcoreWarning",
     "InvalidMeshError",
     "InvalidOptionError",
     "InvalidSourceError",
+    "Operators",
+    "PointCloud",
+    "PolygonMesh",
     "SolverError",
+    "TetMesh",
+    "TriangleMesh",
+    "geodesic_distance",
     "io",
     "linalg",
 ]

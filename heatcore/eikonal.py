@@ -7,7 +7,7 @@ that order and recomputes the values with the fast-marching triangle update
 of Kimmel and Sethian ("Computing geodesic paths on manifolds", PNAS 1998):
 
 * every vertex starts at ``+inf`` except the pinned source vertices
-  (:class:`~heatcore.sources.SourcePins`: 0 at source vertices, the in-face
+  (:class:`~heatcore.domains.sources.SourcePins`: 0 at source vertices, the in-face
   straight-line distance around a surface point);
 * vertices are swept in increasing ``phi``, in bands of heat distance
   ``band_width`` mean edge lengths wide. Each band is relaxed, fully
@@ -56,7 +56,7 @@ import weakref
 
 import numpy as np
 
-from .intrinsic import NEXT, PREV, face_edge_lengths
+from .domains.intrinsic import NEXT, PREV, face_edge_lengths
 
 #: Width of a band of heat distance, in mean edge lengths.
 BAND_WIDTH = 1.0
@@ -123,7 +123,7 @@ class CornerTable:
 
     @classmethod
     def of_domain(cls, domain):
-        """The corner table of a :class:`~heatcore.triangle.TriangleMesh` (built once, cached)."""
+        """The corner table of a :class:`~heatcore.domains.triangle.TriangleMesh` (built once, cached)."""
         try:
             return _CORNERS[domain]
         except (KeyError, TypeError):

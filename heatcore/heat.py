@@ -27,9 +27,16 @@ from concurrent.futures import Future
 import numpy as np
 import scipy.sparse as sp
 
+from .domains.parts import first_of_each, hop_diameters, vertex_components, vertex_graph
 from .errors import InvalidOptionError, SolverError
-from .linalg import Ordering, choose_backend, factor, fill_reducing_ordering, restrict_ordering, start_nested_dissection
-from .parts import first_of_each, hop_diameters, vertex_components, vertex_graph
+from .linalg import (
+    Ordering,
+    choose_backend,
+    factor,
+    fill_reducing_ordering,
+    restrict_ordering,
+    start_nested_dissection,
+)
 
 log = logging.getLogger("heatcore")
 
@@ -199,10 +206,10 @@ class HeatSolver:
         return phi[self.domain.output_vertices]  # index -1 (unreferenced) reads the appended inf
 
     def distance_from_pins(self, pins):
-        """Distance at every operator vertex, in the input's units, for prepared :class:`~heatcore.sources.SourcePins`.
+        """Distance at every operator vertex, in the input's units, for prepared :class:`~heatcore.domains.sources.SourcePins`.
 
         The pins hold distances in the operators' units (see
-        :class:`~heatcore.operators.Operators`), as the domain builds them.
+        :class:`~heatcore.domains.operators.Operators`), as the domain builds them.
         """
         u = self.heat(pins.heat)
         b = self._gradient_transposed @ self._scaled_unit_field(u, self.ops.volumes).ravel()  # = -div X

@@ -46,7 +46,7 @@ def write_grid(path, n):
 
 def timed_batch(inputs, out, sources, how):
     """Run a batch with ``how`` ("pool", or a LocalCluster worker count); returns (seconds, rows)."""
-    from heatcore.batch import run_batch
+    from heatcore.apps.batch import run_batch
 
     if how == "pool":
         start = time.perf_counter()
@@ -64,8 +64,8 @@ def timed_batch(inputs, out, sources, how):
 
 CHILD = r"""
 import json, resource, sys, time
-from heatcore.batch import run_batch
-from heatcore.domain_io import read_domain
+from heatcore.apps.batch import run_batch
+from heatcore.io.domain import read_domain
 from heatcore.heat import HeatSolver
 path, out, mode, bound = sys.argv[1], sys.argv[2], sys.argv[3], float(sys.argv[4])
 start = time.perf_counter()
@@ -125,7 +125,7 @@ def main():
         allp = child(grid, tmp / "a", "all", MAX_MEMORY_MB)
         assert allp["row"]["status"] == "ok", allp
         index = tmp / "a" / "grid20k.npz"
-        from heatcore.batch import block_rows, iter_blocks
+        from heatcore.apps.batch import block_rows, iter_blocks
 
         n_blocks = sum(1 for _ in iter_blocks(index))
         on_disk = sum(f.stat().st_size for f in (tmp / "a" / "grid20k.blocks").glob("*.npy")) / 2**20

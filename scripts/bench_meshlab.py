@@ -6,7 +6,7 @@ one at a time: mean relative error against exact geodesics (MMP, ``gdist``,
 computed on the referenced-vertex submesh, in a child process because gdist
 can crash) and time, for
 
-* heatcore: :func:`heatcore.meshlab.geodesic_distance_from_selection` (default
+* heatcore: :func:`heatcore.apps.meshlab.geodesic_distance_from_selection` (default
   options; colours off so that every method only writes quality); the
   repeated call passes the cached solver back;
 * heatcore high: the same with ``accuracy="high"`` (heat method, then an
@@ -101,7 +101,7 @@ def select_vertex(ms, v):
 
 
 def run_heatcore(ms, sources, **options):
-    from heatcore.meshlab import geodesic_distance_from_selection
+    from heatcore.apps.meshlab import geodesic_distance_from_selection
 
     results, solver = [], None
     for v in sources:
@@ -241,8 +241,8 @@ def figure_cli_output(out_dir, work):
     """What a MeshLab user gets: the command's output PLY, reopened, drawn from its quality."""
     import pymeshlab
 
-    from heatcore.meshlab import main
-    from heatcore.render import render_distance
+    from heatcore.apps.meshlab import main
+    from heatcore.viz.render import render_distance
 
     src = MESH_DIR / "spot.obj"
     out = Path(work) / "spot_distance.ply"
@@ -266,7 +266,7 @@ def figure_comparison(out_dir, row, work, index=0):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from heatcore.render import render_distance
+    from heatcore.viz.render import render_distance
 
     ms = load(row["mesh"])
     V, F = ms.current_mesh().vertex_matrix(), ms.current_mesh().face_matrix()

@@ -37,8 +37,8 @@ from pathlib import Path
 import numpy as np
 
 import heatcore as hc
+from heatcore.domains.pointcloud import PointCloud
 from heatcore.reference import exact_distance, mean_relative_error
-from heatcore.pointcloud import PointCloud
 
 REPO = Path(__file__).resolve().parents[1]
 MESHES = ["spot", "homer", "fandisk", "cheburashka", "rocker-arm", "nefertiti", "stanford-bunny"]

@@ -31,9 +31,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
-import heatcore as hc  # noqa: E402
-from heatcore.polygon import PolygonMesh, fan_triangulate, polygon_arrays  # noqa: E402
-from test_polygon import (  # noqa: E402
+from conftest import mean_relative_error
+from test_polygon import (
     catmull_clark,
     cube,
     exact_in_subprocess,
@@ -42,7 +41,9 @@ from test_polygon import (  # noqa: E402
     potpourri_distance,
     quad_grid,
 )
-from conftest import mean_relative_error  # noqa: E402
+
+import heatcore as hc
+from heatcore.domains.polygon import PolygonMesh, fan_triangulate, polygon_arrays
 
 
 def cases(tmp):
@@ -100,7 +101,7 @@ def pictures(images):
     import matplotlib.pyplot as plt
     from matplotlib.collections import PolyCollection
 
-    from heatcore.render import render_distance
+    from heatcore.viz.render import render_distance
 
     fig, axes = plt.subplots(1, 2, figsize=(11, 5.4))
     for ax, jitter in zip(axes, (0.0, 0.3)):

@@ -81,7 +81,7 @@ def load(mesh_dir, name, levels):
         V, F = cube_sphere(levels)
         return V, F, V, F
     import heatcore as hc
-    from heatcore.refine import midpoint_subdivide
+    from heatcore.domains.refine import midpoint_subdivide
 
     mesh = hc.io.read_mesh(Path(mesh_dir) / f"{name}.obj")
     sub = midpoint_subdivide(mesh.vertices, mesh.faces, levels)
@@ -105,14 +105,14 @@ def run_solver(solver, V, F):
         start = time.perf_counter()
         s = hc.HeatSolver(hc.TriangleMesh(V, F))
         pre = time.perf_counter() - start
-        query = lambda v: s.distance([v])  # noqa: E731
+        query = lambda v: s.distance([v])
     elif solver.startswith("potpourri3d"):
         import potpourri3d as pp3d
 
         start = time.perf_counter()
         s = pp3d.MeshHeatMethodDistanceSolver(V, F, t_coef=1.0, use_robust=solver.endswith("robust"))
         pre = time.perf_counter() - start
-        query = lambda v: s.compute_distance(v)  # noqa: E731
+        query = lambda v: s.compute_distance(v)
     elif solver == "libigl":
         import igl
 
@@ -120,7 +120,7 @@ def run_solver(solver, V, F):
         data = igl.HeatGeodesicsData()
         igl.heat_geodesics_precompute(V, F.astype(np.int64), data)
         pre = time.perf_counter() - start
-        query = lambda v: igl.heat_geodesics_solve(data, np.array([v], dtype=np.int64))  # noqa: E731
+        query = lambda v: igl.heat_geodesics_solve(data, np.array([v], dtype=np.int64))
     elif solver.startswith("meshlab"):
         import pymeshlab
 

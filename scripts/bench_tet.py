@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 import heatcore as hc
-from heatcore.tet import TetMesh
+from heatcore.domains.tet import TetMesh
 
 REPO = Path(__file__).resolve().parents[1]
 

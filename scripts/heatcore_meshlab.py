@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Geodesic distance from a MeshLab selection: thin wrapper around :func:`heatcore.meshlab.main`.
+"""Geodesic distance from a MeshLab selection: thin wrapper around :func:`heatcore.apps.meshlab.main`.
 
 Usage (see docs/meshlab.md)::
 
@@ -10,7 +10,7 @@ Usage (see docs/meshlab.md)::
 
 import sys
 
-from heatcore.meshlab import main
+from heatcore.apps.meshlab import main
 
 if __name__ == "__main__":
     sys.exit(main(prog="heatcore_meshlab.py"))

@@ -1,4 +1,4 @@
-"""The batch runner (heatcore.batch) and `heatcore batch`: local pool, a real Dask cluster, faults, resume."""
+"""The batch runner (heatcore.apps.batch) and `heatcore batch`: local pool, a real Dask cluster, faults, resume."""
 
 import os
 import shutil
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from heatcore import HeatSolver
-from heatcore.batch import (
+from heatcore.apps.batch import (
     BatchError,
     iter_blocks,
     load_distances,
@@ -16,9 +16,9 @@ from heatcore.batch import (
     parse_sources,
     run_batch,
 )
-from heatcore.cli import main
-from heatcore.domain_io import read_domain
+from heatcore.apps.cli import main
 from heatcore.io import demo_mesh_path
+from heatcore.io.domain import read_domain
 
 
 def write_grid(path, nx, ny):

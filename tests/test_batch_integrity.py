@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 from heatcore import HeatSolver
-from heatcore.batch import (
+from heatcore.apps.batch import (
     BatchError,
     clean_temporaries,
     load_distances,
@@ -29,9 +29,9 @@ from heatcore.batch import (
     result_key,
     run_batch,
 )
-from heatcore.cli import main
-from heatcore.domain_io import read_domain
+from heatcore.apps.cli import main
 from heatcore.io import demo_mesh_path
+from heatcore.io.domain import read_domain
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -293,7 +293,7 @@ def test_watchdog_alone_ends_a_worker_whose_parent_is_killed(tmp_path):
     """The portable path (no prctl): a thread polling the parent process."""
     import psutil
 
-    child = ("import os, time; from heatcore.batch_runners import watch_parent; "
+    child = ("import os, time; from heatcore.apps.batch.runners import watch_parent; "
              "watch_parent(os.getppid(), interval=0.05); print('ready', flush=True); time.sleep(60)")
     parent = ("import subprocess, sys; p = subprocess.Popen([sys.executable, '-c', sys.argv[1]]); "
               "print(p.pid, flush=True); p.wait()")

@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 
 import heatcore as hc
-from heatcore.colormap import colorize
 from heatcore.reference import mean_relative_error
+from heatcore.viz.colormap import colorize
 
 REPO = Path(__file__).resolve().parents[1]
 

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 import heatcore as hc
-from heatcore import cli
-from heatcore.colormap import colorize, to_uint8
+from heatcore.apps import cli
 from heatcore.io import MESHLAB_SELECTED_FLAG, read_mesh, write_ply
+from heatcore.viz.colormap import colorize, to_uint8
 
 # Small meshes keep every solve well under a second; --refine 1 keeps the
 # refined mesh small too (the default "auto" would refine to ~12k vertices).
@@ -257,7 +257,7 @@ def test_subprocess_entry_point(sphere_obj, tmp_path):
     path, V, F = sphere_obj
     out = tmp_path / "d.npy"
     proc = subprocess.run(
-        [sys.executable, "-m", "heatcore.cli", "distance", str(path), "-s", "3", "-o", str(out), "--refine", "1"],
+        [sys.executable, "-m", "heatcore.apps.cli", "distance", str(path), "-s", "3", "-o", str(out), "--refine", "1"],
         capture_output=True, text=True, timeout=120,
     )
     assert proc.returncode == 0, proc.stderr

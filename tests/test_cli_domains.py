@@ -6,9 +6,9 @@ import scipy.spatial
 from conftest import shared_mesh_path
 
 import heatcore as hc
-from heatcore import cli
-from heatcore.domain_io import read_domain
-from heatcore.pointcloud import PointCloud
+from heatcore.apps import cli
+from heatcore.domains.pointcloud import PointCloud
+from heatcore.io.domain import read_domain
 
 
 def test_tet_mesh_from_vtu_to_vtu(tmp_path):

@@ -14,7 +14,7 @@ import scipy.spatial
 from test_cli import FAST, icosphere, run, write_obj
 
 import heatcore as hc
-from heatcore import cli, outputs
+from heatcore.apps import cli, outputs
 from heatcore.io import read_mesh
 
 
@@ -188,7 +188,7 @@ def test_failed_write_keeps_the_old_file_and_leaves_no_temporary(sphere, tmp_pat
             f.write(b"\x89PNG half")
         raise OSError(28, "No space left on device", str(tmp))
 
-    monkeypatch.setattr("heatcore.render.render_distance", half_written)
+    monkeypatch.setattr("heatcore.viz.render.render_distance", half_written)
     code, _, err = run(["distance", path, "-s", 0, "--png", png, *FAST], capsys)
     assert code == 1
     assert err.startswith("heatcore: error: ") and "No space left on device" in err

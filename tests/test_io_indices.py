@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 import heatcore as hc
+from heatcore.domains.validate import index_array
 from heatcore.errors import InvalidMeshError
-from heatcore.validate import index_array
 
 V3 = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
 V4 = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)

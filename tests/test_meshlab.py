@@ -6,8 +6,8 @@ import pytest
 from conftest import load_shared_mesh, shared_mesh_path
 
 import heatcore as hc
-from heatcore import meshlab
-from heatcore.colormap import colorize, to_uint8
+from heatcore.apps import meshlab
+from heatcore.viz.colormap import colorize, to_uint8
 
 SOURCES = [0, 100]
 
@@ -188,7 +188,7 @@ def test_unreachable_vertices_get_the_sentinel():
     assert q[4:].tolist() == [-2.5] * 4
     assert q[0] == 0.0 and q[1] == pytest.approx(1.0, abs=0.05)
     assert np.isinf(stats["distance"][4:]).all()
-    grey = to_uint8(np.array([hc.colormap.UNREACHABLE_COLOR]))[0]
+    grey = to_uint8(np.array([hc.viz.colormap.UNREACHABLE_COLOR]))[0]
     assert (colors_uint8(ms.current_mesh())[4:] == grey).all()
 
 

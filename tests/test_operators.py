@@ -5,8 +5,14 @@ import scipy.sparse as sp
 from conftest import load_shared_mesh
 
 import heatcore as hc
-from heatcore.intrinsic import NEXT, PREV, IntrinsicTriangulation, corner_cotangents, face_areas
-from heatcore.refine import midpoint_subdivide
+from heatcore.domains.intrinsic import (
+    NEXT,
+    PREV,
+    IntrinsicTriangulation,
+    corner_cotangents,
+    face_areas,
+)
+from heatcore.domains.refine import midpoint_subdivide
 
 
 def test_flips_reach_delaunay_and_keep_the_surface():
@@ -74,7 +80,7 @@ def test_midpoint_subdivision_tracks_origins():
 
 
 def test_auto_refinement_levels():
-    from heatcore.triangle import auto_refine_levels
+    from heatcore.domains.triangle import auto_refine_levels
 
     assert auto_refine_levels(3) >= 6
     assert auto_refine_levels(2930) == 1

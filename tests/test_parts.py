@@ -12,7 +12,7 @@ import trimesh
 from conftest import exact_distance, load_shared_mesh, mean_relative_error
 
 import heatcore as hc
-from heatcore.polygon import PolygonMesh
+from heatcore.domains.polygon import PolygonMesh
 
 
 def together(*meshes):
@@ -178,7 +178,7 @@ def test_tet_and_polygon_parts_get_their_own_time_step():
     """Two copies of a domain, one 128 times smaller: each copy's distances as alone (scaled)."""
     from scipy.spatial import Delaunay
 
-    from heatcore.tet import TetMesh
+    from heatcore.domains.tet import TetMesh
 
     V = np.stack(np.meshgrid(*[np.arange(4.0)] * 3, indexing="ij"), -1).reshape(-1, 3)
     V = V + np.random.default_rng(1).uniform(-0.2, 0.2, V.shape)

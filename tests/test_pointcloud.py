@@ -12,12 +12,12 @@ import pytest
 from conftest import load_shared_mesh, mean_relative_error
 
 import heatcore as hc
+from heatcore.domains.pointcloud import PointCloud
 from heatcore.errors import InvalidMeshError, InvalidOptionError, InvalidSourceError
-from heatcore.pointcloud import PointCloud
-from heatcore.pointcloud_io import read_point_cloud
+from heatcore.io.pointcloud import read_point_cloud
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
-from bench_pointcloud import potpourri_errors, scenario  # noqa: E402
+from bench_pointcloud import potpourri_errors, scenario
 
 # Measured (docs/pointcloud.md): spot clean 1.53%, cheburashka clean 2.74%;
 # potpourri3d on the same points 2.18% and 4.24%. The clean thresholds sit

@@ -1,4 +1,4 @@
-"""Polygon meshes by virtual refinement (heatcore.polygon) and the polygon reader (heatcore.polygon_io).
+"""Polygon meshes by virtual refinement (heatcore.domains.polygon) and the polygon reader (heatcore.io.polygon).
 
 The helpers at the top (quad grids, Catmull-Clark subdivision, manifold parts,
 potpourri3d in a subprocess) are shared with scripts/bench_polygon.py.
@@ -15,7 +15,12 @@ import scipy.sparse as sp
 from conftest import mean_relative_error, shared_mesh_path
 
 import heatcore as hc
-from heatcore.polygon import PolygonMesh, area_minimizer_weights, fan_triangulate, polygon_arrays
+from heatcore.domains.polygon import (
+    PolygonMesh,
+    area_minimizer_weights,
+    fan_triangulate,
+    polygon_arrays,
+)
 
 # ---------------------------------------------------------------- helpers
 
@@ -158,7 +163,7 @@ def polygon_and_fan_errors(V, polygons, source, exact):
 
 
 def load_polygons(name):
-    from heatcore.polygon_io import read_polygon_mesh
+    from heatcore.io.polygon import read_polygon_mesh
 
     return read_polygon_mesh(shared_mesh_path(name))
 
@@ -319,7 +324,7 @@ def test_reader_keeps_polygons():
     suzanne = load_polygons("suzanne")
     assert suzanne.vertices.shape == (507, 3) and np.bincount(suzanne.polygon_sizes).tolist() == [0, 0, 0, 32, 468]
     assert suzanne.polygon_list()[0].tolist() == [0, 2, 44, 46]  # "f 1 3 45 47", file order kept
-    from heatcore.polygon_io import read_polygon_mesh
+    from heatcore.io.polygon import read_polygon_mesh
 
     with pytest.raises(hc.InvalidMeshError, match="not found"):
         read_polygon_mesh("/nonexistent/mesh.obj")
@@ -328,7 +333,7 @@ def test_reader_keeps_polygons():
 def test_reader_meshio_fallback(tmp_path):
     import meshio
 
-    from heatcore.polygon_io import _read_meshio
+    from heatcore.io.polygon import _read_meshio
 
     V = np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [0, 1, 0], [1, 1, 0], [2, 1.2, 0.3]], float)
     path = tmp_path / "mixed.ply"

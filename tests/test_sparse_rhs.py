@@ -5,7 +5,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from test_linalg import heat_matrix
 
-from heatcore import linalg, sparse_rhs
+from heatcore import linalg
+from heatcore.linalg import sparse_rhs
 
 
 def supernodal(A):

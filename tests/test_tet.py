@@ -13,9 +13,14 @@ import scipy.sparse as sp
 from scipy.spatial import Delaunay
 
 import heatcore as hc
-from heatcore.errors import HeatcoreWarning, InvalidMeshError, InvalidOptionError, InvalidSourceError
-from heatcore.tet import TetMesh, signed_volumes
-from heatcore.tet_io import read_tet_mesh, write_tet_distance
+from heatcore.domains.tet import TetMesh, signed_volumes
+from heatcore.errors import (
+    HeatcoreWarning,
+    InvalidMeshError,
+    InvalidOptionError,
+    InvalidSourceError,
+)
+from heatcore.io.tet import read_tet_mesh, write_tet_distance
 
 # ----------------------------------------------------------------------------- domains
 

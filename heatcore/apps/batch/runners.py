@@ -1,0 +1,210 @@
+"""Runners of a batch: a local process pool or a Dask cluster; stopping them; workers that die with their parent.
+
+:func:`run_pool` and :func:`run_dask` are generators of ``(task, summary_row)``
+in completion order. Closing one (``generator.close()``, or an exception such
+as ``KeyboardInterrupt`` raised while it waits) stops the work: queued tasks
+are cancelled and, on the local pool, the running worker processes are
+terminated at once (their files are written atomically, so a killed task
+leaves at most a temporary file, see :func:`heatcore.apps.batch.storage.clean_temporaries`).
+
+Pool workers ignore SIGINT (the parent decides what Ctrl-C does) and exit
+when their parent process is gone, also when it was killed with SIGKILL: a
+watchdog thread in each worker polls the parent (every OS), and on Linux the
+kernel kills them too (``prctl(PR_SET_PDEATHSIG)``).
+
+Examples
+--------
+>>> rows = list(run_pool([1, 2, 3], 2, abs))
+>>> sorted(row for _, row in rows)
+[1, 2, 3]
+"""
+
+import os
+import signal
+import sys
+import threading
+import time
+import traceback
+import uuid
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from pathlib import Path
+
+from ...errors import HeatcoreError, InvalidOptionError
+
+#: Seconds between two checks of the parent process in a pool worker.
+WATCHDOG_INTERVAL = 0.2
+#: Exit status of a worker whose parent is gone.
+ORPHAN_EXIT_STATUS = 70
+
+
+def error_message(exc):
+    """One line for a failed task: the message of a heatcore error, else type, message and place."""
+    if isinstance(exc, HeatcoreError):
+        return str(exc)
+    frame = traceback.extract_tb(exc.__traceback__)[-1] if exc.__traceback__ else None
+    where = f" (at {Path(frame.filename).name}:{frame.lineno})" if frame else ""
+    return f"{type(exc).__name__}: {exc}{where}"
+
+
+def crash_row(task, exc):
+    """The summary row of a task whose worker failed (killed, lost)."""
+    return {"file": str(getattr(task, "path", task)), "vertices": "", "sources": "", "seconds": "",
+            "status": "error", "error": f"worker failed: {error_message(exc)}"}
+
+
+# --------------------------------------------------------------------------- workers die with their parent
+
+
+def _parent_gone(parent_pid, direct):
+    if direct:  # our parent itself (fork, spawn): re-parented to init or a subreaper once it died
+        return os.getppid() != parent_pid
+    from .storage import pid_alive  # started by a fork server, or on Windows
+
+    return not pid_alive(parent_pid)
+
+
+def watch_parent(parent_pid, interval=WATCHDOG_INTERVAL):
+    """Start a daemon thread that ends this process (``os._exit``) once ``parent_pid`` is gone.
+
+    ``parent_pid`` is the process that owns the work: our parent process, or
+    (started by a fork server) the process that asked for us.
+
+    Returns
+    -------
+    threading.Thread
+
+    Examples
+    --------
+    >>> import subprocess, sys
+    >>> code = ("import os, time; from heatcore.apps.batch.runners import watch_parent; "
+    ...         "watch_parent(os.getppid()); time.sleep(0.3); print('parent alive: still running')")
+    >>> subprocess.run([sys.executable, "-c", code], capture_output=True, text=True).stdout.strip()
+    'parent alive: still running'
+    """
+    direct = os.name != "nt" and os.getppid() == parent_pid
+
+    def watch():
+        while not _parent_gone(parent_pid, direct):
+            time.sleep(interval)
+        os._exit(ORPHAN_EXIT_STATUS)
+
+    thread = threading.Thread(target=watch, name="heatcore-parent-watchdog", daemon=True)
+    thread.start()
+    return thread
+
+
+def _die_with_parent_linux():
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG
+    except Exception:  # noqa: BLE001 - the watchdog thread covers it
+        pass
+
+
+def worker_init(parent_pid):
+    """Initializer of a pool worker: ignore SIGINT, die with the parent ``parent_pid``."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        _die_with_parent_linux()
+    watch_parent(parent_pid)  # also exits at once if the parent died before we got here
+
+
+# --------------------------------------------------------------------------- local pool
+
+
+def stop_pool(pool, grace=1.0):
+    """Cancel queued tasks and end the worker processes of ``pool`` now (terminate, then kill).
+
+    Returns once every worker has exited, so nothing of the pool writes afterwards.
+    """
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for p in processes:
+        if p.is_alive():
+            p.terminate()
+    deadline = time.monotonic() + grace
+    for p in processes:
+        p.join(max(deadline - time.monotonic(), 0.0))
+        if p.is_alive():
+            p.kill()
+            p.join()
+
+
+def run_pool(tasks, workers, fn):
+    """Run ``fn(task)`` on a pool of ``workers`` processes; yield ``(task, row)`` as they finish.
+
+    A task whose worker dies gets an error row (:func:`crash_row`). Closing the
+    generator early, or an exception while it waits, stops the pool at once
+    (:func:`stop_pool`).
+    """
+    tasks = list(tasks)
+    pool = ProcessPoolExecutor(max_workers=min(workers, max(len(tasks), 1)), initializer=worker_init,
+                               initargs=(os.getpid(),))
+    complete = False
+    try:
+        futures = {pool.submit(fn, t): t for t in tasks}
+        for fut in as_completed(futures):
+            task = futures[fut]
+            try:
+                row = fut.result()
+            except Exception as exc:  # noqa: BLE001 - a crashed worker (e.g. killed) fails its mesh only
+                row = crash_row(task, exc)
+            yield task, row
+        complete = True
+    finally:
+        if complete:
+            pool.shutdown(wait=True)
+        else:
+            stop_pool(pool)
+
+
+# --------------------------------------------------------------------------- Dask
+
+
+def run_dask(tasks, scheduler, fn):
+    """Run ``fn(task)`` on a ``dask.distributed`` scheduler (address or Client); yield ``(task, row)``.
+
+    One Dask task per mesh. A task lost with its worker is rerun by the
+    scheduler on another worker (each task gives one row). Closing the
+    generator early cancels the tasks not finished; a task already running on
+    a worker cannot be interrupted and still writes its result (atomically).
+    """
+    from .spec import BatchError
+
+    try:
+        from distributed import Client
+        from distributed import as_completed as dask_completed
+    except ImportError:
+        raise InvalidOptionError(
+            "--scheduler needs dask.distributed: pip install 'heatcore[batch]' (or 'dask[distributed]')"
+        ) from None
+    own = not isinstance(scheduler, Client)
+    try:
+        client = Client(scheduler, timeout="30s") if own else scheduler
+    except (OSError, TimeoutError) as exc:
+        raise BatchError(f"cannot connect to the Dask scheduler at {scheduler}: {exc}") from exc
+    futures = []
+    try:
+        # One task per mesh: its factorization is built and used on the worker that runs it.
+        keys = [f"heatcore-batch-{Path(t.path).name}-{uuid.uuid4().hex[:8]}" for t in tasks]
+        futures = client.map(fn, tasks, pure=False, key=keys)
+        by_key = {f.key: t for f, t in zip(futures, tasks)}
+        for fut in dask_completed(futures):
+            task = by_key[fut.key]
+            try:
+                row = fut.result()
+            except Exception as exc:  # noqa: BLE001 - a task that failed on every worker fails its mesh only
+                row = crash_row(task, exc)
+            fut.release()
+            yield task, row
+    finally:
+        pending = [f for f in futures if not f.done()]
+        if pending:
+            try:
+                client.cancel(pending)
+            except Exception:  # noqa: BLE001 - the scheduler may be gone already
+                pass
+        if own:
+            client.close()

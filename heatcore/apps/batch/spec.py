@@ -1,0 +1,182 @@
+"""What a batch runs: the source specification, the mesh files, one task per mesh.
+
+Examples
+--------
+>>> parse_sources("farthest:8")
+SourceSpec(mode='farthest', indices=(), k=8, suffix='', union=False)
+>>> str(parse_sources("0, 17", union=True))
+'0,17 (union)'
+"""
+
+import os
+import re
+from dataclasses import dataclass, field
+from glob import glob
+from pathlib import Path
+
+from ...errors import HeatcoreError
+
+#: Extensions a folder input picks up (what :func:`heatcore.io.domain.read_domain` reads).
+MESH_SUFFIXES = (".ply", ".obj", ".off", ".stl", ".glb", ".gltf", ".msh", ".vtu", ".vtk", ".mesh", ".xyz")
+DEFAULT_MAX_MEMORY_MB = 1024.0
+
+
+class BatchError(HeatcoreError):
+    """A batch cannot start: bad inputs, source specification or options."""
+
+
+# --------------------------------------------------------------------------- specification
+
+
+@dataclass(frozen=True)
+class SourceSpec:
+    """Which sources to use on every mesh of a batch.
+
+    Attributes
+    ----------
+    mode : {"indices", "all", "farthest", "file"}
+    indices : tuple of int
+        Vertex indices (mode "indices").
+    k : int
+        Number of samples (mode "farthest").
+    suffix : str
+        Sources file suffix replacing the mesh extension (mode "file").
+    union : bool
+        One distance row to the union of the sources instead of one row per source
+        (modes "indices" and "file").
+    """
+
+    mode: str
+    indices: tuple = ()
+    k: int = 0
+    suffix: str = ""
+    union: bool = False
+
+    def __str__(self):
+        if self.mode == "indices":
+            text = ",".join(map(str, self.indices))
+        elif self.mode == "farthest":
+            text = f"farthest:{self.k}"
+        elif self.mode == "file":
+            text = f"file:{self.suffix}"
+        else:
+            text = self.mode
+        return text + (" (union)" if self.union else "")
+
+
+def parse_sources(text=None, *, suffix=None, union=False):
+    """Parse a source specification.
+
+    Parameters
+    ----------
+    text : str, optional
+        ``"0,17"`` (vertex indices), ``"all"`` or ``"farthest:K"``.
+    suffix : str, optional
+        Per-mesh sources file suffix (``".sources.txt"``): ``mesh.obj`` reads
+        ``mesh.sources.txt``. Give either ``text`` or ``suffix``.
+    union : bool, default False
+        One row: the distance to the union of the sources.
+
+    Returns
+    -------
+    SourceSpec
+
+    Raises
+    ------
+    BatchError
+        Unreadable specification, or both/neither of ``text`` and ``suffix``.
+
+    Examples
+    --------
+    >>> parse_sources("farthest:8").k
+    8
+    >>> parse_sources("0, 17").indices
+    (0, 17)
+    """
+    if (text is None) == (suffix is None):
+        raise BatchError("give exactly one source specification: --sources (indices, 'all', 'farthest:K') "
+                         "or --sources-file-suffix")
+    if suffix is not None:
+        if not suffix or "/" in suffix or os.sep in suffix:
+            raise BatchError(f"sources file suffix must be a file name ending such as '.sources.txt', got {suffix!r}")
+        return SourceSpec("file", suffix=suffix, union=union)
+    text = text.strip()
+    if text.lower() == "all":
+        if union:
+            raise BatchError("--union with 'all' would pin every vertex: use vertex indices or a sources file")
+        return SourceSpec("all")
+    match = re.fullmatch(r"farthest:(\d+)", text, flags=re.IGNORECASE)
+    if match:
+        k = int(match.group(1))
+        if k < 1:
+            raise BatchError("farthest:K needs K >= 1")
+        if union:
+            raise BatchError("--union does not apply to farthest:K")
+        return SourceSpec("farthest", k=k)
+    try:
+        indices = tuple(int(tok) for tok in text.replace(",", " ").split())
+    except ValueError:
+        raise BatchError(f"cannot read sources {text!r}: give vertex indices ('0,17'), 'all' or 'farthest:K'") from None
+    if not indices:
+        raise BatchError("no sources given")
+    if min(indices) < 0:
+        raise BatchError(f"source vertex {min(indices)} is negative: vertex indices are 0-based")
+    return SourceSpec("indices", indices=tuple(dict.fromkeys(indices)), union=union)
+
+
+@dataclass(frozen=True)
+class MeshTask:
+    """Everything one worker needs for one mesh (picklable)."""
+
+    path: str
+    output_dir: str
+    spec: SourceSpec
+    max_memory_mb: float = DEFAULT_MAX_MEMORY_MB
+    kind: str = "auto"
+    mesh_options: dict = field(default_factory=dict)
+    solver_options: dict = field(default_factory=dict)
+
+
+# --------------------------------------------------------------------------- paths
+
+
+def find_inputs(inputs):
+    """Mesh files from folders, glob patterns and file paths, sorted and unique.
+
+    Folders contribute their files with a mesh extension (:data:`MESH_SUFFIXES`,
+    not recursive); patterns are expanded with :func:`glob.glob` (``**``
+    allowed).
+
+    Raises
+    ------
+    BatchError
+        An input matches nothing, or two inputs would write the same output name.
+    """
+    if isinstance(inputs, (str, os.PathLike)):
+        inputs = [inputs]
+    found = []
+    for item in inputs:
+        path = Path(item)
+        if path.is_dir():
+            found += [p for p in sorted(path.iterdir()) if p.is_file() and p.suffix.lower() in MESH_SUFFIXES]
+        elif path.is_file():
+            found.append(path)
+        else:
+            matches = [Path(p) for p in sorted(glob(str(item), recursive=True)) if Path(p).is_file()]
+            if not matches:
+                raise BatchError(f"input {item}: no such file or folder, and no file matches it as a pattern")
+            found += matches
+    unique = list(dict.fromkeys(p.resolve() for p in found))
+    if not unique:
+        raise BatchError(f"no mesh files ({', '.join(MESH_SUFFIXES)}) in {', '.join(map(str, inputs))}")
+    names = {}
+    for p in unique:
+        other = names.setdefault(p.stem, p)
+        if other != p:
+            raise BatchError(f"{other} and {p} would both write {p.stem}.npz: rename one or run them separately")
+    return unique
+
+
+def output_path(output_dir, mesh_path):
+    """The result index ``OUTPUT_DIR/NAME.npz`` of mesh ``NAME.EXT``."""
+    return Path(output_dir) / f"{Path(mesh_path).stem}.npz"

@@ -1,0 +1,198 @@
+"""Command-line outputs: names checked before any work, every file written atomically.
+
+An output is first written to a hidden temporary file in its own folder
+(same suffix, so that writers choosing the format by extension still do),
+then moved over the target with :func:`os.replace`: a crash, a Ctrl-C or a
+failing writer never leaves a half-written file, and an existing file is
+replaced whole or not at all. Output names are checked before the mesh is
+read: a known extension, a ``.png`` picture, no name given twice, an
+existing folder, and no output that is one of the command's inputs (unless
+``overwrite``).
+
+Errors: :class:`UsageError` (exit status 2) for a command line that
+contradicts itself, :class:`CliError` (exit status 1) for the file system.
+
+Examples
+--------
+>>> import tempfile, pathlib, numpy as np
+>>> path = pathlib.Path(tempfile.mkdtemp()) / "d.npy"
+>>> with atomic_output(path) as tmp:
+...     np.save(tmp, np.arange(3.0))
+>>> np.load(path).tolist(), sorted(p.name for p in path.parent.iterdir())
+([0.0, 1.0, 2.0], ['d.npy'])
+"""
+
+import contextlib
+import os
+import secrets
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import HeatcoreError
+
+OUTPUT_SUFFIXES = (".ply", ".npy", ".csv", ".vtu", ".vtk", ".msh")
+VOLUME_OUTPUT_SUFFIXES = (".vtu", ".vtk", ".msh")
+#: Isolines in the PNG when ``--isolines`` is not given.
+PNG_ISOLINES = 12
+
+
+class CliError(HeatcoreError):
+    """A command-line input is unusable (sources file, output folder, ...): exit status 1."""
+
+    exit_status = 1
+
+
+class UsageError(CliError):
+    """The command line contradicts itself (output names, option values): exit status 2."""
+
+    exit_status = 2
+
+
+@contextlib.contextmanager
+def atomic_output(path):
+    """Yield a temporary path beside ``path``; on success move it over ``path``, else remove it.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file to write. Its folder must exist.
+
+    Yields
+    ------
+    pathlib.Path
+        ``.<name>.tmp-<random><suffix>`` in the same folder (same file
+        system, so the final :func:`os.replace` is atomic).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "note.txt"
+    >>> _ = path.write_text("old")
+    >>> try:
+    ...     with atomic_output(path) as tmp:
+    ...         _ = tmp.write_text("half")
+    ...         raise RuntimeError("writer failed")
+    ... except RuntimeError:
+    ...     pass
+    >>> path.read_text(), len(list(path.parent.iterdir()))
+    ('old', 1)
+    """
+    path = Path(path)
+    tmp = path.with_name(f".{path.stem}.tmp-{secrets.token_hex(4)}{path.suffix}")
+    try:
+        yield tmp
+        with open(tmp, "rb+") as f:  # on disk before the rename makes it visible
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            tmp.unlink()
+        raise
+
+
+def _same_file(a, b):
+    try:
+        return os.path.samefile(a, b)
+    except OSError:  # one of them does not exist (yet): not the same file
+        return False
+
+
+def check_output_paths(outputs, png=None, inputs=(), overwrite=False):
+    """Refuse unusable output names before any work.
+
+    Parameters
+    ----------
+    outputs : list of path-like
+        Data outputs (``-o``); the suffix picks the format.
+    png : path-like, optional
+        The picture (``--png``).
+    inputs : list of path-like
+        Files the command reads (mesh, sources files).
+    overwrite : bool
+        Allow an output to replace an input.
+
+    Raises
+    ------
+    UsageError
+        Unknown extension, a picture not named ``.png``, a name given twice,
+        an output that is an input (without ``overwrite``).
+    CliError
+        A missing output folder, or an output that is a folder.
+
+    Examples
+    --------
+    >>> check_output_paths(["d.npy"], png="d.png")
+    >>> check_output_paths(["d.txt"])
+    Traceback (most recent call last):
+    ...
+    heatcore.apps.outputs.UsageError: output d.txt: unknown extension '.txt'; use one of .ply, .npy, .csv, .vtu, .vtk, .msh
+    """
+    outputs = [Path(p) for p in outputs]
+    for out in outputs:
+        if out.suffix.lower() not in OUTPUT_SUFFIXES:
+            raise UsageError(f"output {out}: unknown extension {out.suffix!r}; use one of {', '.join(OUTPUT_SUFFIXES)}")
+    if png is not None:
+        png = Path(png)
+        if png.suffix.lower() != ".png":
+            raise UsageError(f"--png {png}: the picture is a PNG file; give a name ending in .png")
+        outputs.append(png)
+    for i, out in enumerate(outputs):
+        if any(out == other or _same_file(out, other) for other in outputs[:i]):
+            raise UsageError(f"output {out} is given twice")
+        for source in inputs:
+            if not overwrite and _same_file(out, source):
+                raise UsageError(f"output {out} is an input of this command; "
+                                 "write elsewhere, or pass --overwrite to replace it")
+        if not out.parent.is_dir():
+            raise CliError(f"cannot write {out}: folder {out.parent} does not exist")
+        if out.is_dir():
+            raise CliError(f"cannot write {out}: it is a folder")
+
+
+def check_outputs_fit(outputs, png, kind):
+    """Refuse outputs that cannot hold this kind of domain, before the precompute."""
+    for out in outputs:
+        suffix = Path(out).suffix.lower()
+        if suffix in VOLUME_OUTPUT_SUFFIXES and kind != "tet":
+            raise CliError(f"output {out}: .vtu/.vtk/.msh outputs are for tetrahedral meshes; use .ply, .npy or .csv")
+        if kind == "tet" and suffix == ".ply":
+            raise CliError(f"output {out}: a tetrahedral mesh is written as .vtu, .vtk or .msh (or .npy/.csv)")
+    if kind == "points" and png is not None:
+        raise CliError("--png draws surfaces; a point cloud has none (write .ply, .npy or .csv)")
+
+
+def write_output(path, V, F, d, sources, colormap, isolines):
+    """Write distances by extension, atomically: .ply (quality + colors + selection), .npy, .csv,
+    or .vtu/.vtk/.msh (``F`` the tets; a point-data field ``distance``)."""
+    from ..viz.colormap import colorize, to_uint8
+
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in OUTPUT_SUFFIXES:
+        raise UsageError(f"output {path}: unknown extension {path.suffix!r}; use one of {', '.join(OUTPUT_SUFFIXES)}")
+    with atomic_output(path) as tmp:
+        if suffix == ".ply":
+            from ..io.mesh import write_ply
+
+            write_ply(tmp, V, F, d, to_uint8(colorize(d, colormap, isolines=isolines or 0)), selection=sources)
+        elif suffix in VOLUME_OUTPUT_SUFFIXES:
+            from ..io.tet import write_tet_distance
+
+            write_tet_distance(tmp, V, F, d)
+        elif suffix == ".npy":
+            np.save(tmp, d)
+        else:
+            table = np.column_stack([np.arange(len(d)), d])
+            np.savetxt(tmp, table, fmt=["%d", "%.17g"], delimiter=",", header="index,distance", comments="")
+
+
+def render_png(path, V, F, d, sources, colormap, isolines, title=None, view=None):
+    """Draw the distance field into a PNG file, atomically (:func:`heatcore.viz.render.render_distance`)."""
+    from ..viz.render import render_distance
+
+    with atomic_output(path) as tmp:
+        render_distance(
+            tmp, V, F, d, sources=sources, colormap=colormap,
+            isolines=PNG_ISOLINES if isolines is None else isolines, title=title, **(view or {}),
+        )

@@ -1,0 +1,427 @@
+"""Polygon meshes by virtual refinement (Bunge, Herholz, Kazhdan, Botsch 2020).
+
+"Polygon Laplacian Made Simple" refines every polygon with ``k >= 4`` corners
+by a virtual vertex ``x_f = sum_i w_i x_i`` (an affine combination of its
+corners) and splits it into the ``k`` fan triangles ``(x_i, x_{i+1}, x_f)``.
+Triangles stay as they are. The weights minimize the sum of the squared fan
+triangle areas (among all such minimizers, the weights of least norm), which
+works for non-planar and non-convex polygons alike. With the prolongation
+``P`` (input vertices to input plus virtual vertices: identity on the corners,
+the weights on the virtual vertices), the polygon operators are the
+Galerkin projections of the triangle operators of the refinement:
+
+* Laplacian ``L = P^T L_fan P``;
+* lumped mass: the row sums of ``P^T M_fan P``, i.e. ``P^T m_fan``;
+* gradient ``G = G_fan P`` on the fan triangles, with the fan triangles'
+  areas as element volumes, so that the divergence ``-G^T diag(A)`` is
+  consistent with the Laplacian (``L = G^T diag(A) G``).
+
+The heat solver (:mod:`heatcore.heat`) sees only these operators and the
+input vertices; the virtual vertices are eliminated.
+
+Degenerate fan triangles (zero-area polygons, repeated corners) are
+mollified (Sharp and Crane 2020) as in :class:`~heatcore.TriangleMesh`, so
+results stay finite; on clean meshes this changes nothing. ``delaunay=True``
+additionally flips the refinement to intrinsic Delaunay before building its
+operators (an M-matrix Laplacian). That is not the paper's operator and is
+less accurate on the measured meshes (docs/polygon.md), hence off by default.
+
+Examples
+--------
+>>> import numpy as np, heatcore as hc
+>>> V = np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [0, 1, 0], [1, 1, 0], [2, 1, 0]], float)
+>>> mesh = PolygonMesh(V, [[0, 1, 4, 3], [1, 2, 5, 4]])
+>>> mesh.n_virtual
+2
+>>> d = hc.HeatSolver(mesh).distance([0])
+>>> bool(abs(d[2] - 2.0) < 0.2)
+True
+"""
+
+import warnings
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import HeatcoreWarning, InvalidMeshError, InvalidSourceError
+from .base import MeshDomain
+from .intrinsic import IntrinsicTriangulation, face_edge_lengths, mollify
+from .operators import Operators
+from .parts import part_extremes, part_means, vertex_components
+from .polygon_shape import fan_triangulate, simple_polygons  # noqa: F401 (fan_triangulate: public here too)
+from .refine import unique_edges
+from .sources import SourcePins, edge_list, index_list
+from .triangle import triangle_operators
+from .validate import vertex_array
+
+
+def polygon_arrays(polygons, n_vertices):
+    """Polygons as flat ``(offsets, indices)`` arrays, validated.
+
+    Parameters
+    ----------
+    polygons : sequence of sequences of int, (m, k) int array, or (offsets, indices) tuple
+        Polygon ``p`` is ``indices[offsets[p]:offsets[p + 1]]`` in the last
+        form: ``offsets`` has ``m + 1`` non-decreasing entries from 0 to
+        ``len(indices)`` (a tuple of two 1-D numpy arrays).
+    n_vertices : int
+
+    Returns
+    -------
+    offsets : (m + 1,) int64 array
+    indices : (offsets[-1],) int64 array
+
+    Raises
+    ------
+    InvalidMeshError
+        Malformed input, non-integer or out-of-range indices, no polygons.
+
+    Examples
+    --------
+    >>> offsets, indices = polygon_arrays([[0, 1, 2, 3], [1, 4, 2]], 5)
+    >>> offsets.tolist(), indices.tolist()
+    ([0, 4, 7], [0, 1, 2, 3, 1, 4, 2])
+    """
+    if (
+        isinstance(polygons, tuple)
+        and len(polygons) == 2
+        and all(isinstance(a, np.ndarray) and a.ndim == 1 for a in polygons)
+    ):
+        offsets, indices = _integers(polygons[0], "polygon offsets"), _integers(polygons[1], "polygon indices")
+        if offsets.size == 0 or offsets[0] != 0 or offsets[-1] != indices.size or np.any(offsets[1:] < offsets[:-1]):
+            raise InvalidMeshError(
+                "polygon offsets must start at 0, never decrease and end at len(indices) "
+                f"(got {offsets.size} offsets, first {offsets[:1].tolist()}, last {offsets[-1:].tolist()}, "
+                f"{indices.size} indices)"
+            )
+        offsets = offsets.astype(np.int64)  # now known to lie in 0..len(indices)
+    elif isinstance(polygons, np.ndarray) and polygons.dtype != object:
+        if polygons.ndim != 2:
+            raise InvalidMeshError(f"a polygon array must have shape (m, k), got {polygons.shape}")
+        indices = _integers(polygons.reshape(-1), "polygon indices")
+        offsets = np.arange(polygons.shape[0] + 1, dtype=np.int64) * polygons.shape[1]
+    else:
+        try:
+            rows = [np.asarray(p).reshape(-1) for p in polygons]
+        except (TypeError, ValueError) as exc:
+            raise InvalidMeshError(f"polygons must be a list of index lists: {exc}") from exc
+        sizes = np.fromiter((r.size for r in rows), dtype=np.int64, count=len(rows))
+        offsets = np.r_[0, np.cumsum(sizes)].astype(np.int64)
+        indices = _integers(np.concatenate(rows) if rows else np.zeros(0, np.int64), "polygon indices")
+    if offsets.size < 2:
+        raise InvalidMeshError("polygons is empty: the mesh has no polygons")
+    bad = (indices < 0) | (indices >= n_vertices)
+    if bad.any():
+        pos = int(np.flatnonzero(bad)[0])
+        poly = int(np.searchsorted(offsets, pos, side="right") - 1)
+        raise InvalidMeshError(
+            f"polygon {poly} references vertex {int(indices[pos])} but the mesh has {n_vertices} vertices "
+            f"(valid indices are 0..{n_vertices - 1})"
+        )
+    return offsets, indices.astype(np.int64)
+
+
+def _integers(a, name):
+    a = np.asarray(a)
+    if a.dtype == object:
+        raise InvalidMeshError(f"{name} must be integers")
+    if a.size and not np.issubdtype(a.dtype, np.integer):
+        if not np.issubdtype(a.dtype, np.floating) or not np.all(np.isfinite(a)) or np.any(a != np.round(a)):
+            raise InvalidMeshError(f"{name} must be integers, got dtype {a.dtype}")
+    return a.reshape(-1)  # not cast yet: a uint64 2**64 - 1 would read as -1 in messages
+
+
+def clean_polygons(offsets, indices):
+    """Collapse repeated consecutive corners, drop polygons left with < 3 corners and duplicates.
+
+    A :class:`~heatcore.HeatcoreWarning` says how many polygons went.
+
+    Returns
+    -------
+    offsets, indices : the kept polygons
+    kept : (m,) bool array over the input polygons
+
+    Examples
+    --------
+    The second polygon collapses to an edge, the third repeats the first:
+
+    >>> import numpy as np, warnings
+    >>> with warnings.catch_warnings():
+    ...     warnings.simplefilter("ignore")
+    ...     o, i, kept = clean_polygons(np.array([0, 4, 7, 10]), np.array([0, 1, 1, 2, 2, 3, 2, 0, 1, 2]))
+    >>> o.tolist(), i.tolist(), kept.tolist()
+    ([0, 3], [0, 1, 2], [True, False, False])
+    """
+    m = offsets.size - 1
+    sizes = np.diff(offsets)
+    owner = np.repeat(np.arange(m), sizes)
+    nxt = np.arange(indices.size) + 1
+    nxt[offsets[1:][sizes > 0] - 1] = offsets[:-1][sizes > 0]  # wrap around
+    keep_corner = indices != indices[nxt] if indices.size else np.zeros(0, bool)
+    # a polygon whose corners are all one vertex keeps none: fine, it goes below
+    new_sizes = np.bincount(owner[keep_corner], minlength=m)
+    indices = indices[keep_corner]
+    owner = owner[keep_corner]
+    short = new_sizes < 3
+    # duplicates: same corner set and size (in any order or orientation)
+    offs = np.r_[0, np.cumsum(new_sizes)]
+    duplicate = np.zeros(m, dtype=bool)
+    for k in np.unique(new_sizes[~short]):
+        polys = np.flatnonzero(new_sizes == k)
+        S = np.sort(indices[offs[polys][:, None] + np.arange(k)], axis=1)
+        order = np.lexsort(S.T[::-1])
+        same = np.r_[False, (S[order[1:]] == S[order[:-1]]).all(axis=1)]
+        duplicate[polys[order[same]]] = True
+    kept = ~short & ~duplicate
+    n_short, n_dup = int(short.sum()), int(duplicate.sum())
+    if n_short or n_dup:
+        warnings.warn(
+            f"ignored {n_short} polygons with fewer than 3 distinct corners and {n_dup} duplicate polygons",
+            HeatcoreWarning,
+            stacklevel=3,
+        )
+    keep_entry = kept[owner]
+    return np.r_[0, np.cumsum(new_sizes[kept])].astype(np.int64), indices[keep_entry], kept
+
+
+def area_minimizer_weights(X):
+    """Affine weights of the virtual vertex of polygons of one size (Bunge et al. 2020, eq. 3).
+
+    The virtual vertex ``x = w @ X`` minimizes the sum of squared areas of the
+    triangles ``(X_i, X_{i+1}, x)``; among the weights giving that point
+    (unique for ``k > 4`` or planar polygons) the ones of least norm are chosen.
+
+    Parameters
+    ----------
+    X : (m, k, 3) float array
+        Corner positions of ``m`` polygons with ``k`` corners each.
+
+    Returns
+    -------
+    (m, k) float array
+        Weights summing to 1 per polygon; uniform for a polygon collapsed to a point.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> square = np.array([[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]], float)
+    >>> area_minimizer_weights(square).round(3).tolist()
+    [[0.25, 0.25, 0.25, 0.25]]
+    """
+    m, k, _ = X.shape
+    c = X.mean(axis=1)
+    Y = X - c[:, None, :]  # translation invariance: work around the centroid
+    d = np.roll(Y, -1, axis=1) - Y
+    # (Y_i - p) x d_i has squared norm (p - Y_i)^T C_i (p - Y_i), C_i = |d_i|^2 I - d_i d_i^T
+    dd = np.einsum("mki,mki->mk", d, d)
+    C = dd[:, :, None, None] * np.eye(3) - d[:, :, :, None] * d[:, :, None, :]
+    A = C.sum(axis=1)
+    b = np.einsum("mkij,mkj->mi", C, Y)
+    scale = np.maximum(np.abs(A).max(axis=(1, 2)), np.finfo(float).tiny)
+    p = np.einsum("mij,mj->mi", np.linalg.pinv(A / scale[:, None, None], rcond=1e-10, hermitian=True), b / scale[:, None])
+    # least-norm weights: w = 1/k + Y (Y^T Y)^+ p  (sum(w) = 1 since sum_i Y_i = 0)
+    YtY = np.einsum("mki,mkj->mij", Y, Y)
+    s2 = np.maximum(np.abs(YtY).max(axis=(1, 2)), np.finfo(float).tiny)
+    q = np.einsum("mij,mj->mi", np.linalg.pinv(YtY / s2[:, None, None], rcond=1e-10, hermitian=True), p / s2[:, None])
+    w = 1.0 / k + np.einsum("mki,mi->mk", Y, q)
+    return np.where(np.isfinite(w).all(axis=1, keepdims=True), w, 1.0 / k)
+
+
+class PolygonMesh(MeshDomain):
+    """A polygon mesh as a heat-method domain (virtual refinement, Bunge et al. 2020).
+
+    Parameters
+    ----------
+    V : (n, 3) array_like of float
+        Vertex positions.
+    polygons : list of index lists, (m, k) int array, or (offsets, indices) tuple
+        Polygons of any size >= 3, mixed; see :func:`polygon_arrays`. Repeated
+        consecutive corners are merged; polygons left with fewer than three
+        corners, and duplicates, are ignored with a warning. Non-planar,
+        non-convex polygons, non-manifold edges and several connected
+        components are fine; unreferenced vertices get ``inf``.
+    delaunay : bool, default False
+        Build the refined triangle operators on the intrinsic Delaunay
+        triangulation of the refinement (see the module docstring). The
+        default gives the paper's operators.
+    split_crossing : bool, default False
+        A polygon whose sides cross (a bowtie, a pentagram) has no surface
+        for virtual refinement to span: by default it is an
+        :class:`~heatcore.InvalidMeshError` naming it; ``True`` uses its fan
+        triangles instead, with a warning (beast.obj has 24 such quads).
+
+    Attributes
+    ----------
+    operators : Operators
+        On the referenced input vertices (``vertex_map`` order).
+    offsets, indices : int arrays
+        The kept polygons, on input vertex indices.
+    polygon_map : (m,) int array
+        Kept polygon index of each input polygon, ``-1`` if ignored.
+    weights : (offsets[-1],) float array
+        Virtual-vertex weight of each polygon corner (1/3 on triangles, unused).
+    prolongation : (n_used + n_virtual, n_used) sparse matrix
+        ``P``: operator vertices to refined vertices.
+    refined_vertices : (n_used + n_virtual, 3) float array
+    refined_faces : (f, 3) int array
+        The (extrinsic) fan triangulation on refined vertices.
+    n_virtual : int
+        Polygons with more than three corners (each has a virtual vertex).
+    n_flips : int
+        Intrinsic Delaunay flips on the refinement (0 unless ``delaunay=True``).
+    mollification : (n_parts,) float array
+        Length added to every refined edge of each connected part (0 for a
+        clean part). Each part also gets its own mean edge length ``h``
+        (the time step's), as in :class:`~heatcore.TriangleMesh`.
+
+    Examples
+    --------
+    >>> import numpy as np, heatcore as hc
+    >>> V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0.2], [0, 1, 0], [2, 0.5, 0]], float)
+    >>> mesh = PolygonMesh(V, [[0, 1, 2, 3], [1, 4, 2]])
+    >>> mesh.operators.laplacian.shape, mesh.n_virtual
+    ((5, 5), 1)
+    """
+
+    element_name = "polygon"
+
+    def __init__(self, V, polygons, *, delaunay=False, split_crossing=False):
+        self.vertices = vertex_array(V)
+        n = self.vertices.shape[0]
+        offsets, indices = polygon_arrays(polygons, n)
+        self.n_input_polygons = offsets.size - 1
+        self.offsets, self.indices, kept = clean_polygons(offsets, indices)
+        if self.offsets.size < 2:
+            raise InvalidMeshError("no polygon has three distinct corners: the mesh has no area")
+        self.polygon_map = np.full(kept.size, -1, dtype=np.int64)
+        self.polygon_map[kept] = np.arange(int(kept.sum()))
+        offsets, indices = simple_polygons(self.vertices, self.offsets, self.indices, np.flatnonzero(kept), split_crossing)
+        used = np.unique(self.indices)
+        self.vertex_map = np.full(n, -1, dtype=np.int64)
+        self.vertex_map[used] = np.arange(used.size)
+        self.delaunay = bool(delaunay)
+        self.operators = self._build_operators(self.vertices[used], offsets, self.vertex_map[indices])
+
+    @property
+    def n_polygons(self):
+        """Number of polygons kept."""
+        return self.offsets.size - 1
+
+    def _build_operators(self, X, offsets, corners):
+        n = X.shape[0]
+        sizes = np.diff(offsets)
+        m = sizes.size
+        # polygon edges: boundary flags and the time step's mean edge length
+        nxt = np.arange(corners.size) + 1
+        nxt[offsets[1:] - 1] = offsets[:-1]
+        a, b = corners, corners[nxt]
+        keys, counts = np.unique(np.minimum(a, b) * n + np.maximum(a, b), return_counts=True)
+        edges = np.stack([keys // n, keys % n], axis=1)
+        boundary = np.zeros(n, dtype=bool)
+        boundary[edges[counts == 1].ravel()] = True
+        count, part = vertex_components(edges, n)  # each connected part its own h
+        h = part_means(np.linalg.norm(X[edges[:, 0]] - X[edges[:, 1]], axis=1), part[edges[:, 0]], count)
+        if not (h > 0.0).all():
+            raise InvalidMeshError("all edges have zero length: the mesh (or one of its parts) collapses to a point")
+        self.polygon_edges = edges
+
+        # virtual vertices, grouped by polygon size
+        big = sizes > 3
+        virtual = np.full(m, -1, dtype=np.int64)
+        virtual[big] = n + np.arange(int(big.sum()))
+        self.n_virtual = int(big.sum())
+        weights = np.full(corners.size, 1.0 / 3.0)
+        for k in np.unique(sizes[big]):
+            polys = np.flatnonzero(sizes == k)
+            pos = offsets[polys][:, None] + np.arange(k)
+            weights[pos] = area_minimizer_weights(X[corners[pos]] / h[part[corners[pos[:, 0]]]][:, None, None])
+        self.weights = weights
+        owner = np.repeat(np.arange(m), sizes)
+        is_virtual = big[owner]
+        rows = np.r_[np.arange(n), virtual[owner[is_virtual]]]
+        cols = np.r_[np.arange(n), corners[is_virtual]]
+        vals = np.r_[np.ones(n), weights[is_virtual]]
+        N = n + self.n_virtual
+        P = sp.csr_matrix((vals, (rows, cols)), shape=(N, n))
+        self.prolongation = P
+        self.refined_vertices = P @ X
+
+        # refined faces: the fan (c_i, c_{i+1}, virtual) of each polygon, triangles as they are
+        fan = np.stack([corners[is_virtual], corners[nxt][is_virtual], virtual[owner[is_virtual]]], axis=1)
+        tri = corners[offsets[:-1][~big][:, None] + np.arange(3)]
+        F = np.concatenate([tri, fan])
+        self.refined_faces = F
+
+        face_part = part[F[:, 0]]  # the first corner of a fan triangle is a polygon corner
+        face_h = h[face_part][:, None]
+        lengths, eps = mollify(face_edge_lengths(self.refined_vertices, F) / face_h, part=face_part, n_parts=count)
+        self.mollification = eps * h
+        intrinsic = IntrinsicTriangulation.from_mesh(None, F, lengths=lengths, side_edge=unique_edges(F)[1])
+        self.n_flips = intrinsic.flip_to_delaunay() if self.delaunay else 0
+        fan_ops = triangle_operators(intrinsic.lengths * face_h, intrinsic.faces, N, np.zeros(N, bool), 1.0)
+
+        L = (P.T @ fan_ops.laplacian @ P).tocsr()
+        L = 0.5 * (L + L.T)
+        mass = P.T @ fan_ops.mass
+        # Negative weights (strongly non-convex polygons) could in principle leave a
+        # vertex without mass; give it the mass of its own fan triangles then.
+        own = fan_ops.mass[:n]
+        largest = part_extremes(own, part, count, largest=True)
+        mass = np.where(mass > 1e-12 * largest[part], mass, own)
+        G = (fan_ops.gradient @ P).tocsr()
+        # elements for connectivity: virtual vertices stand in for their polygon's first corner
+        stand_in = np.r_[np.arange(n), corners[offsets[:-1][big]]]
+        elements = stand_in[intrinsic.faces]
+        return Operators(L, mass, G, fan_ops.volumes, 2, boundary, elements, h[part])
+
+    def source_pins(self, vertices=None, *, edges=None, faces=None):
+        """Turn a source specification into :class:`~heatcore.domains.sources.SourcePins`.
+
+        Parameters
+        ----------
+        vertices : int or sequence of int, optional
+            Source vertices (distance 0).
+        edges : (k, 2) array_like of int, optional
+            Polygon edges (vertex pairs); their end points are pinned at 0.
+        faces : sequence of int, optional
+            Input polygon indices; the distance is to their union (their
+            corners are pinned at 0).
+
+        Raises
+        ------
+        InvalidSourceError
+            No source, indices out of range, unreferenced vertices, ignored
+            polygons, or pairs that are not polygon edges.
+        """
+        pins = []
+        if vertices is not None:
+            v = index_list(vertices, self.n_input_vertices, "vertex")
+            pins.append(self._referenced(v))
+        if edges is not None:
+            e = edge_list(edges, self.n_input_vertices)
+            ce = np.sort(self._referenced(e.ravel()).reshape(-1, 2), axis=1)
+            n = self.operators.n_vertices
+            keys = self.polygon_edges[:, 0] * n + self.polygon_edges[:, 1]
+            query = ce[:, 0] * n + ce[:, 1]
+            pos = np.clip(np.searchsorted(keys, query), 0, max(keys.size - 1, 0))
+            missing = keys[pos] != query
+            if missing.any():
+                bad = e[np.flatnonzero(missing)[0]].tolist()
+                raise InvalidSourceError(f"vertex pair {bad} is not an edge of the polygon mesh")
+            pins.append(ce.ravel())
+        if faces is not None:
+            f = index_list(faces, self.n_input_polygons, "polygon")
+            kept = self.polygon_map[f]
+            if (kept < 0).any():
+                bad = int(f[kept < 0][0])
+                raise InvalidSourceError(f"polygon {bad} was ignored (fewer than 3 distinct corners or a duplicate)")
+            starts, stops = self.offsets[kept], self.offsets[kept + 1]
+            sizes = stops - starts
+            pos = np.repeat(starts - np.r_[0, np.cumsum(sizes)[:-1]], sizes) + np.arange(sizes.sum())
+            pins.append(self.vertex_map[self.indices[pos]])
+        if not pins or sum(p.size for p in pins) == 0:
+            raise InvalidSourceError("no source given: pass vertex indices, edges or faces (at least one)")
+        idx = np.unique(np.concatenate(pins))
+        ones = np.ones(idx.size)
+        return SourcePins.combine(self.operators.n_vertices, idx, np.zeros(idx.size), idx, ones)
+

@@ -1,0 +1,174 @@
+"""Self-crossing polygons: a bowtie or a pentagram is no surface patch.
+
+Virtual refinement (:mod:`heatcore.domains.polygon`) spans a polygon by fan
+triangles around a virtual vertex. On a polygon whose sides cross each other
+(a bowtie quad, a pentagram) the fan folds over itself and the distances come
+out shorter than the straight line, so such polygons are refused with an
+error that names them. Each polygon is projected along its vector area
+(Newell's normal, which sees a twisted quad as the square it spans), or, where
+that vanishes as on a bowtie, onto its plane of least variance, and its
+non-adjacent sides are tested for a proper crossing there.
+
+Examples
+--------
+>>> import numpy as np
+>>> X = np.array([[0, 0, 0], [1, 1, 0], [1, 0, 0], [0, 1, 0], [2, 0, 0], [3, 0, 0], [3, 1, 0]], float)
+>>> offsets, corners = np.array([0, 4, 7]), np.array([0, 1, 2, 3, 4, 5, 6])
+>>> [(p, sides) for p, sides in crossing_polygons(X, offsets, corners)]
+[(0, (0, 2))]
+"""
+
+import warnings
+
+import numpy as np
+
+from ..errors import HeatcoreWarning, InvalidMeshError
+
+
+def simple_polygons(X, offsets, corners, given, split=False):
+    """The polygons as virtual refinement may span them: a self-crossing one is an error, or its fan triangles.
+
+    Parameters
+    ----------
+    X : (n, 3) float array
+    offsets, corners : int arrays
+        Polygons, as in :func:`crossing_polygons`.
+    given : (m,) int array
+        The index the user gave each polygon (for messages).
+    split : bool, default False
+        Replace self-crossing polygons by their fan triangles from the first
+        corner (real triangles), with a :class:`~heatcore.HeatcoreWarning`,
+        instead of raising.
+
+    Returns
+    -------
+    offsets, corners : int arrays
+
+    Raises
+    ------
+    InvalidMeshError
+        A polygon crosses itself (and ``split`` is False); the message names it.
+
+    Examples
+    --------
+    >>> X = np.array([[0, 0, 0], [1, 1, 0], [1, 0, 0], [0, 1, 0]], float)
+    >>> simple_polygons(X, np.array([0, 4]), np.arange(4), np.array([7]))
+    Traceback (most recent call last):
+    heatcore.errors.InvalidMeshError: 1 polygon(s) cross themselves, as a bowtie does: 7 (sides 0 and 2); polygon 7 has vertices [0, 1, 2, 3]. Fix them, pass split_crossing=True to use their fan triangles, or read the mesh as triangles
+    """
+    crossing = crossing_polygons(X, offsets, corners)
+    if not crossing:
+        return offsets, corners
+    bad = np.array([k for k, _ in crossing])
+    named = ", ".join(f"{int(given[k])} (sides {a} and {b})" for k, (a, b) in crossing[:5])
+    named += ", ..." if bad.size > 5 else ""
+    if not split:
+        k = crossing[0][0]
+        raise InvalidMeshError(
+            f"{bad.size} polygon(s) cross themselves, as a bowtie does: {named}; polygon {int(given[k])} has "
+            f"vertices {corners[offsets[k] : offsets[k + 1]].tolist()}. Fix them, pass split_crossing=True to "
+            "use their fan triangles, or read the mesh as triangles"
+        )
+    warnings.warn(f"{bad.size} polygon(s) cross themselves and are split into triangles: {named}", HeatcoreWarning, stacklevel=3)
+    sizes = np.diff(offsets)
+    keep = np.ones(sizes.size, dtype=bool)
+    keep[bad] = False
+    triangles, polygon = fan_triangulate(offsets, corners)
+    fans = triangles[np.isin(polygon, bad)]
+    kept_corners = corners[np.repeat(keep, sizes)]
+    new_sizes = np.r_[sizes[keep], np.full(len(fans), 3)]
+    return np.r_[0, np.cumsum(new_sizes)], np.r_[kept_corners, fans.ravel()]
+
+
+def fan_triangulate(offsets, indices):
+    """Split each polygon into the triangles ``(c_0, c_i, c_{i+1})`` fanned from its first corner.
+
+    Parameters
+    ----------
+    offsets : (m + 1,) int array
+    indices : (offsets[-1],) int array
+
+    Returns
+    -------
+    triangles : (sum(k - 2), 3) int array
+    polygon : (sum(k - 2),) int array, the polygon each triangle comes from
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> fan_triangulate(np.array([0, 4, 7]), np.array([0, 1, 2, 3, 1, 4, 2]))[0].tolist()
+    [[0, 1, 2], [0, 2, 3], [1, 4, 2]]
+    """
+    sizes = np.diff(offsets)
+    n_tri = np.maximum(sizes - 2, 0)
+    polygon = np.repeat(np.arange(sizes.size), n_tri)
+    first = offsets[:-1][polygon]
+    step = np.arange(polygon.size) - np.repeat(np.r_[0, np.cumsum(n_tri)[:-1]], n_tri)
+    tri = np.stack([indices[first], indices[first + step + 1], indices[first + step + 2]], axis=1)
+    return tri, polygon
+
+
+def crossing_polygons(X, offsets, corners):
+    """Polygons whose sides cross, each with the first pair of crossing sides.
+
+    Parameters
+    ----------
+    X : (n, 3) float array
+        Vertex positions.
+    offsets : (m + 1,) int array
+        Polygon ``p`` has corners ``corners[offsets[p]:offsets[p + 1]]``.
+    corners : (offsets[-1],) int array
+
+    Returns
+    -------
+    list of ``(polygon, (side_a, side_b))``
+        Side ``i`` runs from corner ``i`` to corner ``i + 1``; empty when every
+        polygon is simple. Triangles never cross.
+    """
+    sizes = np.diff(offsets)
+    found = []
+    for k in np.unique(sizes[sizes > 3]):
+        polygons = np.flatnonzero(sizes == k)
+        P = X[corners[offsets[polygons][:, None] + np.arange(k)]]  # (p, k, 3)
+        flat = _plane_coordinates(P)
+        a, b = np.triu_indices(k, 2)
+        keep = (b - a) % k != k - 1  # sides k-1 and 0 share corner 0
+        a, b = a[keep], b[keep]
+        crossing = _segments_cross(flat, a, b)  # (p, pairs)
+        rows = np.flatnonzero(crossing.any(axis=1))
+        first = crossing[rows].argmax(axis=1)
+        found += [(int(polygons[r]), (int(a[f]), int(b[f]))) for r, f in zip(rows, first)]
+    return sorted(found)
+
+
+def _plane_coordinates(P):
+    """Corners ``(p, k, 3)`` projected along each polygon's normal, ``(p, k, 2)``."""
+    centered = P - P.mean(axis=1, keepdims=True)
+    normal = 0.5 * np.cross(centered, np.roll(centered, -1, axis=1)).sum(axis=1)  # vector area
+    _, _, directions = np.linalg.svd(centered, full_matrices=False)
+    spread = (centered**2).sum(axis=(1, 2))
+    weak = np.linalg.norm(normal, axis=1) <= 1e-3 * spread  # a bowtie's areas cancel
+    normal[weak] = directions[weak, 2]
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    helper = np.where(np.abs(normal[:, :1]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])
+    u = np.cross(normal, helper)
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    v = np.cross(normal, u)
+    return np.stack([np.einsum("pkd,pd->pk", centered, u), np.einsum("pkd,pd->pk", centered, v)], axis=2)
+
+
+def _segments_cross(flat, a, b):
+    """Whether side ``a[j]`` crosses side ``b[j]`` of each polygon (a proper crossing, not a touch)."""
+    start, end = flat, np.roll(flat, -1, axis=1)
+    p, q = start[:, a], end[:, a]
+    r, s = start[:, b], end[:, b]
+
+    def orientation(o, u, v):
+        return (u[..., 0] - o[..., 0]) * (v[..., 1] - o[..., 1]) - (u[..., 1] - o[..., 1]) * (v[..., 0] - o[..., 0])
+
+    scale = np.abs(flat).max(axis=(1, 2))[:, None] ** 2 * 1e-12 + np.finfo(float).tiny
+    d1, d2 = orientation(p, q, r), orientation(p, q, s)
+    d3, d4 = orientation(r, s, p), orientation(r, s, q)
+    return (d1 * d2 < 0) & (d3 * d4 < 0) & (np.minimum(np.abs(d1), np.abs(d2)) > scale) & (
+        np.minimum(np.abs(d3), np.abs(d4)) > scale
+    )

@@ -1,0 +1,406 @@
+"""Triangle meshes: cotan Laplacian, lumped mass, per-face gradient and divergence.
+
+All operators are built from edge lengths alone, on the intrinsic Delaunay
+triangulation of the (mollified) mesh by default, so gradients and the
+divergence live on the same intrinsic triangles as the Laplacian.
+
+Examples
+--------
+>>> import numpy as np
+>>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
+>>> mesh = TriangleMesh(V, [[0, 1, 2], [1, 3, 2]], refine=0)
+>>> mesh.operators.laplacian.shape
+(4, 4)
+"""
+
+import dataclasses
+import warnings
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import (
+    HeatcoreWarning,
+    InvalidMeshError,
+    InvalidOptionError,
+    InvalidSourceError,
+)
+from .base import MeshDomain
+from .intrinsic import (
+    NEXT,
+    PREV,
+    IntrinsicTriangulation,
+    corner_cotangents,
+    face_areas,
+    mollify,
+    triangle_slack,
+)
+from .operators import Operators, laplacian_from_weights
+from .parts import (
+    in_part_units,
+    part_extremes,
+    part_means,
+    unit_exponents,
+    vertex_components,
+)
+from .refine import (
+    AUTO_REFINE_BUDGET,
+    AUTO_REFINE_MIN_VERTICES,
+    auto_refine_levels,
+    budgeted_levels,
+    midpoint_subdivide,
+)
+from .sources import SourcePins, barycentric_array, edge_list, index_list
+from .validate import clean_elements, mesh_arrays
+from .weld import weld_map, weld_tolerance
+
+#: Smallest triangle slack ``l_a + l_b - l_c`` (relative to the part's mean
+#: edge length) the operators may keep. A part whose triangles are still
+#: thinner after the intrinsic Delaunay flips (a strip 1e-8 wide, which no flip
+#: can mend) gives cotangent weights of 1e5 and more, and the linear solves
+#: lose every digit: it is mollified to this slack instead of 1e-6, which
+#: lengthens its edges by at most 0.1% of the mean edge length. No shared test
+#: mesh comes near it (their smallest slack after the flips: 4e-3 to 0.13).
+THIN_TRIANGLE_SLACK = 1e-3
+
+
+def triangle_operators(lengths, faces, n_vertices, boundary, mean_edge_length, unit_exponent=0):
+    """Operator bundle of a triangulation given by its edge lengths.
+
+    Parameters
+    ----------
+    lengths : (m, 3) float array, column ``c`` opposite corner ``c``
+    faces : (m, 3) int array
+    n_vertices : int
+    boundary : (n,) bool array
+    mean_edge_length : float or (n,) float array
+    unit_exponent : int or (n,) int array
+        See :class:`~heatcore.domains.operators.Operators`.
+
+    Returns
+    -------
+    Operators
+        Gradients are expressed in a 2D frame laid out on each triangle.
+    """
+    areas = face_areas(lengths)
+    cot = corner_cotangents(lengths, areas)
+    a = faces[:, NEXT].ravel()
+    b = faces[:, PREV].ravel()
+    L = laplacian_from_weights(a, b, 0.5 * cot.ravel(), n_vertices)  # half the cotangent opposite each side
+    mass = np.bincount(faces.ravel(), weights=np.repeat(areas / 3.0, 3), minlength=n_vertices)
+
+    # Planar layout of each triangle: corner 0 at (0, 0), corner 1 at (l2, 0), corner 2 at (x, y).
+    # The gradient of corner c's hat function is the edge opposite c (counter-clockwise)
+    # turned by 90 degrees, over twice the area.
+    l0, l1, l2 = lengths.T
+    x = (l1**2 + l2**2 - l0**2) / (2.0 * l2)
+    y = 2.0 * areas / l2
+    m = faces.shape[0]
+    grad_hat = np.empty((m, 2, 3))  # row 2 f + k of G: component k on face f, one column per corner
+    grad_hat[:, 0, 0], grad_hat[:, 0, 1], grad_hat[:, 0, 2] = -y, y, 0.0
+    grad_hat[:, 1, 0], grad_hat[:, 1, 1], grad_hat[:, 1, 2] = x - l2, -x, l2
+    grad_hat /= (2.0 * areas)[:, None, None]
+    index = np.int32 if max(n_vertices, 6 * m + 1) < np.iinfo(np.int32).max else np.int64
+    columns = np.repeat(faces[:, None, :].astype(index), 2, axis=1).ravel()
+    G = sp.csr_matrix((grad_hat.ravel(), columns, np.arange(0, 6 * m + 1, 3, dtype=index)), shape=(2 * m, n_vertices))
+    return Operators(L, mass, G, areas, 2, boundary, faces, mean_edge_length, unit_exponent)
+
+
+class TriangleMesh(MeshDomain):
+    """A triangle mesh as a heat-method domain.
+
+    Parameters
+    ----------
+    V : (n, 3) array_like of float
+        Vertex positions.
+    F : (m, 3) array_like of int
+        Triangles (vertex indices). Faces with repeated vertices and duplicate
+        faces are ignored with a warning; unreferenced vertices get ``inf``.
+    robust : bool, default True
+        Build the operators on the intrinsic Delaunay triangulation of the
+        mollified mesh (accurate on badly shaped triangles, tolerant of
+        non-manifold edges). ``False`` gives the plain cotan operators.
+    refine : "auto" or int, default "auto"
+        Levels of midpoint subdivision before building the operators. "auto"
+        subdivides each connected part with fewer than
+        ``AUTO_REFINE_MIN_VERTICES`` vertices until it has that many (a
+        coarse part cannot resolve the distance with one level of
+        triangles); results are reported at the input vertices.
+    weld : float or None, default 0.0
+        Merge vertices closer than this tolerance (in the mesh's units; 0:
+        only vertices at exactly the same position), as STL files (triangle
+        soup) and OBJ files with texture seams need. ``None`` keeps every
+        vertex apart. Distances are still reported at every input vertex.
+
+    Each connected part is solved as if it were alone: its own refinement
+    level, time step, mollification and length unit (:mod:`heatcore.domains.parts`),
+    so its distances do not depend on the other parts, and scaling the mesh
+    by any finite factor scales the distances by the same factor.
+
+    Attributes
+    ----------
+    operators : Operators
+    n_welded : int
+        Input vertices merged into another one by welding.
+    n_parts : int
+        Connected parts (after welding).
+    part_levels : (n_parts,) int array
+        Midpoint subdivision levels of each part; ``levels`` is the largest.
+    unit_exponent : (n_parts,) int array
+        Each part's length unit, ``2**unit_exponent`` (0 for parts of
+        ordinary size; see :func:`heatcore.domains.parts.unit_exponents`).
+    n_flips : int
+        Edge flips made by the intrinsic Delaunay step.
+    mollification : (n_parts,) float array
+        Length added to every edge of each part by mollification, in the
+        input's units (0 for clean parts).
+    thin_parts : int array
+        Parts whose triangles were too thin to solve accurately as they are,
+        mollified more strongly (see ``THIN_TRIANGLE_SLACK``; robust meshes
+        only: ``robust=False`` keeps the plain cotan operators as they are).
+    intrinsic : IntrinsicTriangulation
+        The triangulation the operators are built on (faces index operator
+        vertices; lengths in each part's unit).
+    subdivision : Subdivision
+        The (possibly midpoint-refined) mesh, in each part's unit; its first
+        vertices are the input's referenced vertices, in ``vertex_map``
+        order. Its ``mesh_edges`` and ``side_edge`` are dropped (None) once
+        the operators are built.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+    >>> TriangleMesh(V, [[0, 1, 2]]).operators.n_vertices > 3
+    True
+    >>> soup = np.vstack([V, [[1, 0, 0], [1, 1, 0], [0, 1, 0]]])  # two triangles, six vertices
+    >>> mesh = TriangleMesh(soup, [[0, 1, 2], [3, 4, 5]], refine=0)
+    >>> mesh.n_welded, mesh.operators.n_vertices, mesh.n_parts
+    (2, 4, 1)
+    """
+
+    element_name = "face"
+
+    def __init__(self, V, F, *, robust=True, refine="auto", weld=0.0):
+        self.vertices, self.faces = mesh_arrays(V, F)
+        if refine != "auto" and not (
+            isinstance(refine, (int, np.integer)) and not isinstance(refine, bool) and 0 <= refine <= 8
+        ):
+            raise InvalidOptionError(f"refine must be 'auto' or an integer 0..8, got {refine!r}")
+        tolerance = weld_tolerance(weld)
+        self.robust = bool(robust)
+        n = self.vertices.shape[0]
+        representative, self.n_welded = weld_map(self.vertices, tolerance) if tolerance is not None else (None, 0)
+        faces = self.faces if representative is None else representative[self.faces]
+        kept = clean_elements(faces)
+        if not kept.any():
+            welded = " once coincident vertices are welded" if self.n_welded else ""
+            raise InvalidMeshError(
+                f"every face has a repeated vertex{welded}: all edges have zero length, the mesh has no area"
+            )
+        used = np.unique(faces[kept])
+        compact = np.full(n, -1, dtype=np.int64)
+        compact[used] = np.arange(used.size)
+        self.vertex_map = compact if representative is None else compact[representative]
+        self.face_map = np.full(self.faces.shape[0], -1, dtype=np.int64)
+        self.face_map[kept] = np.arange(int(kept.sum()))
+        if used.size == n and kept.all():  # a clean mesh: no renumbered copy needed
+            V_used, F_used = self.vertices, faces
+        else:
+            V_used, F_used = self.vertices[used], compact[faces[kept]]
+        self.n_parts, part = vertex_components(F_used, used.size)
+        if refine == "auto":
+            sizes = np.bincount(part, minlength=self.n_parts)
+            self.part_levels, cap = budgeted_levels(sizes, auto_refine_levels(sizes))
+            if cap is not None:
+                warnings.warn(
+                    f"refine='auto': {self.n_parts:,} parts refined to at most {cap} levels each (not the "
+                    f"{AUTO_REFINE_MIN_VERTICES:,} vertices a part gets alone), to stay under "
+                    f"{AUTO_REFINE_BUDGET:,} vertices in all; pass refine=LEVELS to choose",
+                    HeatcoreWarning,
+                    stacklevel=2,
+                )
+        else:
+            self.part_levels = np.full(self.n_parts, int(refine), dtype=np.int64)
+        self.levels = int(self.part_levels.max())
+        self.unit_exponent = unit_exponents(V_used, part, self.n_parts)
+        self._input_part = part
+        face_levels = self.part_levels[part[F_used[:, 0]]]
+        self.subdivision = midpoint_subdivide(in_part_units(V_used, part, self.unit_exponent), F_used, face_levels)
+        self.operators = self._build_operators(self.subdivision.carry(part, F_used))
+
+    def _build_operators(self, part):
+        sub = self.subdivision
+        V, F = sub.vertices, sub.faces
+        n = V.shape[0]
+        edges, side_edge = sub.mesh_edges, sub.side_edge
+        edge_faces = np.bincount(side_edge.ravel(), minlength=edges.shape[0])
+        boundary = np.zeros(n, dtype=bool)
+        boundary[edges[edge_faces == 1].ravel()] = True
+        edge_lengths = np.linalg.norm(V[edges[:, 0]] - V[edges[:, 1]], axis=1)
+        h = part_means(edge_lengths, part[edges[:, 0]], self.n_parts)  # in each part's unit
+        if not (h > 0).all():
+            bad = int(np.flatnonzero(~(h > 0))[0])
+            raise InvalidMeshError(
+                f"all edges of connected part {bad} (of {self.n_parts}) have zero length: it collapses to a point"
+            )
+        # Work at unit mean edge length so results scale exactly with the mesh.
+        face_part = part[F[:, 0]]
+        face_h = h[face_part][:, None]
+        unit_lengths = edge_lengths[side_edge] / face_h
+        tri, eps = self._intrinsic(unit_lengths, F, side_edge, face_part, 1e-6)
+        least = part_extremes(triangle_slack(tri.lengths).min(axis=1), face_part, self.n_parts)  # flips keep parts
+        self.thin_parts = np.flatnonzero(least < THIN_TRIANGLE_SLACK) if self.robust else np.zeros(0, np.int64)
+        if self.thin_parts.size:
+            delta = np.where(least < THIN_TRIANGLE_SLACK, THIN_TRIANGLE_SLACK, 1e-6)
+            tri, eps = self._intrinsic(unit_lengths, F, side_edge, face_part, delta)
+        self.mollification = np.ldexp(eps * h, self.unit_exponent)
+        # Only the build needs the refined mesh's edges (1M vertices: 48-96 MB).
+        self.subdivision = dataclasses.replace(sub, mesh_edges=None, side_edge=None)
+        tri.lengths *= face_h
+        self.intrinsic = tri
+        return triangle_operators(tri.lengths, tri.faces, n, boundary, h[part], self.unit_exponent[part])
+
+    def _intrinsic(self, unit_lengths, faces, side_edge, face_part, relative_delta):
+        """Mollified (per part) and, when robust, intrinsic Delaunay triangulation; and the mollification."""
+        lengths, eps = mollify(unit_lengths, relative_delta, part=face_part, n_parts=self.n_parts)
+        tri = IntrinsicTriangulation.from_mesh(None, faces, lengths=lengths, side_edge=side_edge)
+        self.n_flips = tri.flip_to_delaunay() if self.robust else 0
+        return tri, eps
+
+    def source_pins(self, vertices=None, *, face_points=None, edges=None, faces=None):
+        """Turn a source specification into :class:`SourcePins` on the operator vertices.
+
+        Parameters
+        ----------
+        vertices : int or sequence of int, optional
+            Source vertices (distance 0).
+        face_points : (face_indices, barycentric) pair, optional
+            Points on faces: ``face_indices`` (k,) and barycentric coordinates (k, 3).
+        edges : (k, 2) array_like of int, optional
+            Mesh edges (vertex pairs); distance to their union.
+        faces : sequence of int, optional
+            Faces; distance to their union (a selected region).
+
+        Raises
+        ------
+        InvalidSourceError
+            No source given, indices out of range, unreferenced vertices, or
+            pairs that are not edges of the mesh.
+        """
+        n_ops = self.operators.n_vertices
+        sub = self.subdivision
+        pin_v, pin_d, heat_v, heat_w = [], [], [], []
+
+        def pin(op_vertices, values, weights):
+            pin_v.append(op_vertices)
+            pin_d.append(values)
+            heat_v.append(op_vertices)
+            heat_w.append(weights)
+
+        if vertices is not None:
+            v = index_list(vertices, self.n_input_vertices, "vertex")
+            pin(self._referenced(v), np.zeros(v.size), np.ones(v.size))
+        if edges is not None:
+            e = edge_list(edges, self.n_input_vertices)
+            ce = np.sort(self._referenced(e.ravel()).reshape(-1, 2), axis=1)
+            edge_id = self._edge_ids(ce, e)
+            inner = np.flatnonzero(np.isin(sub.vertex_edge, edge_id))
+            ends = np.unique(ce)
+            pin(np.r_[ends, inner], np.zeros(ends.size + inner.size), np.ones(ends.size + inner.size))
+        if faces is not None:
+            f = index_list(faces, self.faces.shape[0], "face")
+            corners = np.unique(self.vertex_map[self.faces[f]])
+            corners = corners[corners >= 0]  # an ignored face may have corners no kept face uses
+            inner = self._vertices_inside(f)
+            idx = np.r_[corners, inner]
+            pin(idx, np.zeros(idx.size), np.ones(idx.size))
+        if face_points is not None:
+            try:
+                fi, bary = face_points
+            except (TypeError, ValueError):
+                raise InvalidSourceError("face_points must be a pair (face indices, barycentric coordinates)") from None
+            fi = index_list(fi, self.faces.shape[0], "face")
+            b = barycentric_array(bary, fi.size, 3)
+            ignored = fi[self.face_map[fi] < 0]
+            if ignored.size:
+                raise InvalidSourceError(
+                    f"face {int(ignored[0])} was ignored (it has repeated vertices, after welding, or duplicates "
+                    "another face), so a point on it cannot be a source; use a vertex or another face"
+                )
+            for k in range(fi.size):  # a handful of points: one pin set per point
+                tri = self.vertex_map[self.faces[fi[k]]]
+                corners = sub.vertices[tri]  # in the part's unit, as every pinned distance
+                inside = np.r_[tri, self._vertices_inside(fi[k : k + 1])]
+                d = np.linalg.norm(sub.vertices[inside] - b[k] @ corners, axis=1)
+                pin_v.append(inside)
+                pin_d.append(d)
+                hv, hw = self._point_impulse(corners, self._part_levels_of(tri[0]), b[k], inside)
+                heat_v.append(hv)
+                heat_w.append(hw)
+        if not pin_v or sum(len(p) for p in pin_v) == 0:
+            raise InvalidSourceError(
+                "no source given: pass vertex indices, face_points, edges or faces (at least one)"
+            )
+        return SourcePins.combine(
+            n_ops, np.concatenate(pin_v), np.concatenate(pin_d), np.concatenate(heat_v), np.concatenate(heat_w)
+        )
+
+    def _part_levels_of(self, operator_vertex):
+        """Subdivision levels of the part of an input vertex (given as its operator vertex)."""
+        return int(self.part_levels[self._input_part[operator_vertex]])
+
+    def _point_impulse(self, corners, levels, bary, inside):
+        """Hat-function weights of a face point on the refined mesh (vertices, weights).
+
+        After ``L`` levels of midpoint subdivision the vertices inside an input
+        face (``corners``, in the part's unit) sit on the barycentric lattice of
+        spacing ``1 / 2^L``; the point lies in one lattice triangle, whose
+        corners get its barycentric weights.
+        """
+        N = 2**levels
+        A = np.column_stack([corners[1] - corners[0], corners[2] - corners[0]])
+        uv = np.linalg.lstsq(A, (self.subdivision.vertices[inside] - corners[0]).T, rcond=None)[0].T
+        lattice = np.rint(np.column_stack([1 - uv.sum(1), uv]) * N).astype(np.int64)
+        B = bary * N
+        base = np.minimum(np.floor(B + 1e-12), N).astype(np.int64)
+        frac = B - base
+        excess = N - int(base.sum())
+        if excess <= 0:  # the point is a lattice vertex
+            cell, weights = [base], [1.0]
+        elif excess == 1:  # upward lattice triangle
+            cell = [base + np.eye(3, dtype=np.int64)[c] for c in range(3)]
+            weights = list(frac)
+        else:  # downward lattice triangle
+            cell = [base + 1 - np.eye(3, dtype=np.int64)[c] for c in range(3)]
+            weights = list(1.0 - frac)
+        idx = [inside[np.flatnonzero((lattice == corner).all(axis=1))[0]] for corner in cell]
+        return np.asarray(idx), np.clip(np.asarray(weights, dtype=float), 0.0, None)
+
+    def _edge_ids(self, compact_pairs, user_pairs):
+        edges = self.subdivision.edges
+        n = self.operators.n_vertices
+        keys = edges[:, 0] * n + edges[:, 1]
+        query = compact_pairs[:, 0] * n + compact_pairs[:, 1]
+        pos = np.clip(np.searchsorted(keys, query), 0, keys.size - 1)
+        missing = keys[pos] != query
+        if missing.any():
+            bad = user_pairs[np.flatnonzero(missing)[0]].tolist()
+            raise InvalidSourceError(f"vertex pair {bad} is not an edge of the mesh")
+        return pos
+
+    def _vertices_inside(self, user_faces):
+        """Refined vertices lying on or inside the given input faces (none without refinement)."""
+        sub = self.subdivision
+        if self.levels == 0:
+            return np.zeros(0, dtype=np.int64)
+        cf = self.face_map[user_faces]
+        cf = cf[cf >= 0]
+        tri = self.vertex_map[self.faces[user_faces]]
+        sides = np.sort(np.stack([tri[:, [1, 2, 0]], tri[:, [2, 0, 1]]], axis=2).reshape(-1, 2), axis=1)
+        n = self.operators.n_vertices
+        keys = sub.edges[:, 0] * n + sub.edges[:, 1]
+        query = sides[:, 0] * n + sides[:, 1]
+        pos = np.clip(np.searchsorted(keys, query), 0, keys.size - 1)
+        side_ids = pos[keys[pos] == query]
+        return np.flatnonzero(np.isin(sub.vertex_face, cf) | np.isin(sub.vertex_edge, side_ids))

@@ -1,0 +1,140 @@
+"""Input checking and cleanup with typed, actionable errors.
+
+Examples
+--------
+>>> V, F = mesh_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+>>> F.dtype
+dtype('int64')
+"""
+
+import warnings
+
+import numpy as np
+
+from ..errors import HeatcoreWarning, InvalidMeshError
+
+
+def vertex_array(V, name="V"):
+    """Vertex positions as a finite ``(n, 3)`` float64 array (``(n, 2)`` is padded with z = 0)."""
+    try:
+        V = np.array(V, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InvalidMeshError(f"{name} must be a numeric (n, 3) array: {exc}") from exc
+    if V.ndim != 2 or V.shape[1] not in (2, 3):
+        raise InvalidMeshError(f"{name} must have shape (n, 3) (or (n, 2)), got {V.shape}")
+    if V.shape[0] == 0:
+        raise InvalidMeshError(f"{name} is empty: the mesh has no vertices")
+    if V.shape[1] == 2:
+        V = np.column_stack([V, np.zeros(V.shape[0])])
+    bad = ~np.isfinite(V).all(axis=1)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise InvalidMeshError(
+            f"{int(bad.sum())} vertices have NaN or infinite coordinates (first: vertex {i} = {V[i].tolist()})"
+        )
+    return V
+
+
+def index_array(A, n_vertices, columns, element="face", name="F"):
+    """Element indices as an ``(m, columns)`` int64 array, each in ``[0, n_vertices)``.
+
+    An index out of range is reported as given (a ``uint64`` ``2**64 - 1`` is
+    not shown as ``-1``).
+
+    Examples
+    --------
+    >>> index_array(np.array([[0, 1, 2**64 - 1]], dtype=np.uint64), 3, 3)
+    Traceback (most recent call last):
+    ...
+    heatcore.errors.InvalidMeshError: face 0 references vertex 18446744073709551615 but the mesh has 3 vertices (valid indices are 0..2)
+    """
+    try:
+        A = np.asarray(A)
+    except ValueError as exc:  # ragged nested lists
+        raise InvalidMeshError(f"{name} must be an integer array of shape (m, {columns}); got ragged rows") from exc
+    if A.dtype == object:
+        raise InvalidMeshError(f"{name} must be an integer array of shape (m, {columns}); got ragged rows")
+    if A.ndim != 2 or A.shape[1] != columns:
+        raise InvalidMeshError(f"{name} must have shape (m, {columns}), got {A.shape}")
+    if A.shape[0] == 0:
+        raise InvalidMeshError(f"{name} is empty: the mesh has no {element}s")
+    if not np.issubdtype(A.dtype, np.integer):
+        if not np.issubdtype(A.dtype, np.floating) or not np.all(np.isfinite(A)) or np.any(A != np.round(A)):
+            raise InvalidMeshError(f"{name} must hold integer vertex indices, got dtype {A.dtype}")
+    bad = (A < 0) | (A >= n_vertices)  # before the cast: uint64 and large floats would wrap around
+    if bad.any():
+        row, col = np.argwhere(bad)[0]
+        raise InvalidMeshError(
+            f"{element} {row} references vertex {int(A[row, col])} but the mesh has {n_vertices} vertices "
+            f"(valid indices are 0..{n_vertices - 1})"
+        )
+    return A.astype(np.int64)
+
+
+def mesh_arrays(V, F):
+    """Validate a triangle mesh.
+
+    Parameters
+    ----------
+    V : (n, 3) array_like of float
+    F : (m, 3) array_like of int
+
+    Returns
+    -------
+    V : (n, 3) float64 array
+    F : (m, 3) int64 array
+
+    Raises
+    ------
+    InvalidMeshError
+        Wrong shapes, non-finite coordinates, out-of-range or negative indices.
+    """
+    V = vertex_array(V)
+    F = index_array(F, V.shape[0], 3)
+    return V, F
+
+
+def _may_have_duplicate_rows(S):
+    """False when the rows of ``S`` are certainly distinct (one sort of one integer key per row)."""
+    if S.shape[0] < 2:
+        return False
+    base = int(S.max()) + 1
+    if base ** S.shape[1] >= 2**62:
+        return True
+    key = np.zeros(S.shape[0], dtype=np.int64)
+    for column in S.T:
+        key = key * base + column
+    key.sort()
+    return bool((key[1:] == key[:-1]).any())
+
+
+def clean_elements(E, element="face"):
+    """Drop elements with repeated vertices and duplicates of another element.
+
+    Both are harmless to drop: a repeated-vertex element has no area, and a
+    duplicate adds nothing. A :class:`HeatcoreWarning` says how many went.
+
+    Parameters
+    ----------
+    E : (m, k) int array
+
+    Returns
+    -------
+    kept : (m,) bool array
+    """
+    S = np.sort(E, axis=1)
+    repeated = (S[:, 1:] == S[:, :-1]).any(axis=1)
+    unique = np.ones(E.shape[0], dtype=bool)
+    if _may_have_duplicate_rows(S):
+        order = np.lexsort(S.T[::-1])
+        same_as_previous = np.r_[False, (S[order[1:]] == S[order[:-1]]).all(axis=1)]
+        unique[order[same_as_previous]] = False
+    kept = unique & ~repeated
+    n_rep, n_dup = int(repeated.sum()), int((~unique & ~repeated).sum())
+    if n_rep or n_dup:
+        warnings.warn(
+            f"ignored {n_rep} {element}s with repeated vertices and {n_dup} duplicate {element}s",
+            HeatcoreWarning,
+            stacklevel=3,
+        )
+    return kept

@@ -1,0 +1,80 @@
+"""Welding: vertices at the same position become one.
+
+STL files are triangle soup (every triangle has its own three vertices), and
+OBJ files split vertices along texture seams. Read as they are, such a mesh
+falls apart into thousands of one-triangle parts and the distance is ``inf``
+almost everywhere. Welding finds the vertices that sit at the same position
+(exactly, or within a tolerance) and lets each group stand for one vertex; the
+distances are still reported at every vertex of the file.
+
+Examples
+--------
+>>> import numpy as np
+>>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+>>> representative, n_welded = weld_map(V)
+>>> representative.tolist(), n_welded
+([0, 1, 2, 1, 4, 2], 2)
+"""
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+
+from ..errors import InvalidOptionError
+
+
+def weld_tolerance(weld):
+    """Validate the ``weld`` option: ``None`` or ``False`` (no welding) or a tolerance >= 0.
+
+    Examples
+    --------
+    >>> weld_tolerance(0), weld_tolerance(None), weld_tolerance(1e-6)
+    (0.0, None, 1e-06)
+    """
+    if weld is None or weld is False:
+        return None
+    if isinstance(weld, (bool, np.bool_)) or not isinstance(weld, (int, float, np.integer, np.floating)):
+        raise InvalidOptionError(f"weld must be a tolerance >= 0 or None (no welding), got {weld!r}")
+    if not (np.isfinite(weld) and weld >= 0):
+        raise InvalidOptionError(f"weld must be a finite tolerance >= 0 or None (no welding), got {weld!r}")
+    return float(weld)
+
+
+def weld_map(V, tolerance=0.0):
+    """The vertex that stands for each vertex once coincident vertices are merged.
+
+    Parameters
+    ----------
+    V : (n, 3) float array
+    tolerance : float, default 0.0
+        Vertices closer than this (Euclidean distance, in the mesh's units)
+        are merged, and so are chains of such vertices; 0 merges only
+        vertices at exactly the same position.
+
+    Returns
+    -------
+    representative : (n,) int array
+        The smallest index of each vertex's group (itself if it has no twin).
+    n_welded : int
+        Vertices merged into another one.
+
+    Examples
+    --------
+    >>> V = np.array([[0, 0, 0], [1e-9, 0, 0], [1, 0, 0]])
+    >>> weld_map(V, 1e-6)[0].tolist()
+    [0, 0, 2]
+    """
+    n = V.shape[0]
+    if tolerance > 0:
+        from scipy.spatial import cKDTree
+
+        pairs = cKDTree(V).query_pairs(tolerance, output_type="ndarray")
+        graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+        _, group = connected_components(graph, directed=False)
+        first = np.unique(group, return_index=True)[1]
+    else:
+        rows = np.ascontiguousarray(V + 0.0)  # + 0.0 turns -0.0 into 0.0
+        keys = rows.view(np.dtype((np.void, rows.itemsize * rows.shape[1]))).ravel()
+        _, first, group = np.unique(keys, return_index=True, return_inverse=True)
+    representative = first[group.ravel()]  # the smallest index of each group
+    return representative, int(n - first.size)

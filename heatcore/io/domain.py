@@ -1,0 +1,141 @@
+"""Read a file as a heat-method domain: triangle, polygon or tetrahedral mesh, or point cloud.
+
+Used by the command line (and by anything that takes "a mesh file" without knowing its kind).
+With ``kind="auto"``: volume formats holding tetrahedra become a :class:`~heatcore.TetMesh`,
+point lists (``.xyz``, and PLY/OBJ files without faces) a
+:class:`~heatcore.domains.pointcloud.PointCloud`, everything else a :class:`~heatcore.TriangleMesh`
+(polygons fan-triangulated). ``kind="polygon"`` keeps the polygons for a
+:class:`~heatcore.PolygonMesh` (needs potpourri3d to read OBJ files with texture coordinates).
+
+Examples
+--------
+>>> from heatcore.io import demo_mesh_path
+>>> f = read_domain(demo_mesh_path())
+>>> f.kind, f.surface.shape[1]
+('triangle', 3)
+"""
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InvalidMeshError, InvalidOptionError, NoFacesError
+
+DOMAIN_KINDS = ("auto", "triangle", "polygon", "tet", "points")
+VOLUME_SUFFIXES = {".msh", ".vtu", ".vtk", ".mesh", ".node", ".ele"}
+POINT_SUFFIXES = {".xyz", ".pts", ".txt"}
+
+
+@dataclass
+class DomainFile:
+    """What a file holds, ready to become a domain.
+
+    Attributes
+    ----------
+    kind : {"triangle", "polygon", "tet", "points"}
+    vertices : (n, 3) float array
+    surface : (m, 3) int array or None
+        Triangles to draw and to write in a PLY (fan triangles of polygons,
+        boundary faces of a tet mesh once built, None for points).
+    cells : object
+        Triangles, ``(offsets, indices)`` polygons, ``(m, 4)`` tets, or
+        normals (or None) for points.
+    selection : (k,) int array
+        Vertices selected in a MeshLab PLY (empty when none).
+    """
+
+    kind: str
+    vertices: np.ndarray
+    surface: object
+    cells: object
+    selection: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+
+    def selected_vertices(self):
+        """Vertices selected in the file (MeshLab PLY flags)."""
+        return self.selection
+
+    def domain(self, robust=True, refine="auto", weld=0.0):
+        """Build the domain; ``robust``, ``refine`` and ``weld`` apply where the domain has them.
+
+        ``weld`` (a tolerance, 0 for exactly coincident vertices, None for no
+        welding) is a :class:`~heatcore.TriangleMesh` option; the domain reports
+        distances at every vertex of the file either way.
+        """
+        if self.kind == "triangle":
+            from ..domains.triangle import TriangleMesh
+
+            return TriangleMesh(self.vertices, self.cells, robust=robust, refine=refine, weld=weld)
+        if self.kind == "polygon":
+            from ..domains.polygon import PolygonMesh
+
+            return PolygonMesh(self.vertices, self.cells)
+        if self.kind == "tet":
+            from ..domains.tet import TetMesh
+
+            mesh = TetMesh(self.vertices, self.cells)
+            self.surface = mesh.boundary_faces
+            return mesh
+        from ..domains.pointcloud import PointCloud
+
+        return PointCloud(self.vertices, self.cells, refine=refine)
+
+
+def read_domain(path, kind="auto"):
+    """Read ``path`` as a domain of the given kind (see the module docstring).
+
+    Parameters
+    ----------
+    path : str or path-like
+    kind : {"auto", "triangle", "polygon", "tet", "points"}
+
+    Returns
+    -------
+    DomainFile
+    """
+    if kind not in DOMAIN_KINDS:
+        raise InvalidOptionError(f"domain kind must be one of {DOMAIN_KINDS}, got {kind!r}")
+    from .mesh import check_not_empty
+
+    path = Path(path)
+    check_not_empty(path)
+    suffix = path.suffix.lower()
+    if suffix == ".ply":  # every reader below hangs on a PLY header without end_header
+        from .ply import read_header
+
+        read_header(path)
+    if kind == "tet" or (kind == "auto" and suffix in VOLUME_SUFFIXES):
+        from .tet import read_tet_mesh
+
+        try:
+            V, T = read_tet_mesh(path)
+            return DomainFile("tet", V, None, T)
+        except InvalidMeshError:
+            if kind == "tet":
+                raise
+    if kind == "points" or (kind == "auto" and suffix in POINT_SUFFIXES):
+        return _points(path)
+    if kind == "polygon":
+        from ..domains.polygon import fan_triangulate
+        from .polygon import read_polygon_mesh
+
+        poly = read_polygon_mesh(path)
+        return DomainFile("polygon", poly.vertices, fan_triangulate(poly.offsets, poly.indices)[0], poly.polygons)
+    from .mesh import read_mesh
+
+    try:
+        mesh = read_mesh(path)
+    except NoFacesError:
+        from .pointcloud import POINT_CLOUD_SUFFIXES
+
+        if kind == "auto" and suffix in POINT_CLOUD_SUFFIXES:  # a file of vertices only: a point cloud
+            return _points(path)
+        raise
+    return DomainFile("triangle", mesh.vertices, mesh.faces, mesh.faces, mesh.selected_vertices())
+
+
+def _points(path):
+    from .pointcloud import read_point_cloud
+
+    cloud = read_point_cloud(path)
+    return DomainFile("points", cloud.points, None, cloud.normals)

@@ -1,0 +1,211 @@
+"""Mesh file reading and writing through library readers (meshio, trimesh).
+
+meshio reads and writes PLY (keeping extra vertex properties such as
+MeshLab's selection flags and quality) and volume formats; trimesh reads OBJ
+(meshio's OBJ reader rejects files with texture coordinates), OFF, STL and
+glTF without reordering vertices. PLY files of triangle strips
+(``element tristrips``, strips separated by ``-1``, as in the Stanford
+scans), which meshio rejects, are read by :mod:`heatcore.io.ply`.
+
+A file that cannot be read gives one :class:`~heatcore.errors.InvalidMeshError`
+saying why (an empty file, a PLY without vertices, the reader's own words cut
+to :data:`MAX_DETAIL` characters), never the reader's printout.
+
+Examples
+--------
+>>> V, F = load_demo_mesh()
+>>> V.shape[1], F.shape[1]
+(3, 3)
+"""
+
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InvalidMeshError, NoFacesError
+
+#: MeshLab (VCG) stores the selection in bit 5 of the per-vertex ``flags`` PLY property.
+MESHLAB_SELECTED_FLAG = 0x20
+
+TRIMESH_SUFFIXES = {".obj", ".off", ".stl", ".glb", ".gltf"}
+
+#: Longest reader message kept in an error (some readers quote whole files).
+MAX_DETAIL = 300
+
+
+def short(text, limit=MAX_DETAIL):
+    """``text`` on one line, at most ``limit`` characters (a reader's message inside one of ours).
+
+    Examples
+    --------
+    >>> short("line one\\n   line two")
+    'line one line two'
+    >>> len(short("x" * 5000))
+    300
+    """
+    text = " ".join(str(text).split())
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def check_not_empty(path):
+    """Raise :class:`InvalidMeshError` when ``path`` is missing or holds 0 bytes."""
+    path = Path(path)
+    if not path.is_file():
+        raise InvalidMeshError(f"mesh file not found: {path}")
+    if path.stat().st_size == 0:
+        raise InvalidMeshError(f"{path} is empty (0 bytes)")
+
+
+@dataclass
+class SurfaceMesh:
+    """A surface mesh read from a file.
+
+    Attributes
+    ----------
+    vertices : (n, 3) float array
+    faces : (m, 3) int array, triangles (polygons fan-triangulated)
+    vertex_data : dict of (n,) arrays, extra per-vertex properties (PLY)
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    vertex_data: dict = field(default_factory=dict)
+
+    def selected_vertices(self):
+        """Vertices marked selected in a MeshLab PLY (``flags`` property), possibly empty."""
+        flags = self.vertex_data.get("flags")
+        if flags is None:
+            return np.zeros(0, dtype=np.int64)
+        return np.flatnonzero(np.asarray(flags).astype(np.int64) & MESHLAB_SELECTED_FLAG)
+
+
+def demo_mesh_path():
+    """Path of the bundled demo mesh (spot, Keenan Crane, public domain)."""
+    return Path(str(resources.files("heatcore") / "data" / "spot.obj"))
+
+
+def load_demo_mesh():
+    """Vertices and faces of the bundled demo mesh."""
+    mesh = read_mesh(demo_mesh_path())
+    return mesh.vertices, mesh.faces
+
+
+def read_mesh(path):
+    """Read a surface mesh file.
+
+    Parameters
+    ----------
+    path : str or path-like
+        Any format trimesh (OBJ, OFF, STL, glTF) or meshio (PLY, VTK, ...) reads.
+
+    Returns
+    -------
+    SurfaceMesh
+    """
+    path = Path(path)
+    check_not_empty(path)
+    suffix = path.suffix.lower()
+    try:
+        if suffix in TRIMESH_SUFFIXES:
+            return _read_trimesh(path)
+        if suffix == ".ply":
+            return _read_ply(path)
+        return _read_meshio(path)
+    except InvalidMeshError:
+        raise
+    except (Exception, SystemExit) as exc:  # readers raise many types; meshio may even exit
+        raise InvalidMeshError(f"cannot read mesh file {path}: {short(exc) or type(exc).__name__}") from exc
+
+
+def _read_trimesh(path):
+    import trimesh
+
+    mesh = trimesh.load(str(path), process=False, maintain_order=True, force="mesh")
+    if len(mesh.faces) == 0:
+        raise NoFacesError(f"{path} holds no faces")
+    return SurfaceMesh(np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces, dtype=np.int64))
+
+
+def _read_ply(path):
+    from .ply import read_header, read_tristrips
+
+    header = read_header(path)
+    counts = header.counts()
+    if not counts.get("vertex"):
+        declared = "no vertex element" if "vertex" not in counts else "element vertex 0"
+        raise InvalidMeshError(f"{path} holds no vertices (its PLY header declares {declared})")
+    if counts.get("tristrips"):
+        return SurfaceMesh(*read_tristrips(path, header))
+    if not counts.get("face"):
+        raise NoFacesError(f"{path} holds no faces")
+    import meshio
+    import meshio.ply
+
+    try:
+        return _surface(meshio.ply.read(str(path)), path)
+    except (NoFacesError, meshio.ReadError):
+        raise
+    except Exception as exc:  # numpy's complaint while parsing: the body does not match the header
+        raise InvalidMeshError(f"cannot read mesh file {path}: {short(exc, 160) or type(exc).__name__} "
+                               "(the data does not match the header: a truncated or corrupt file?)") from None
+
+
+def _read_meshio(path):
+    import contextlib
+    import io
+
+    import meshio
+
+    chatter = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(chatter):  # meshio prints its own errors, then exits
+            mesh = meshio.read(str(path))
+    except SystemExit:
+        raise InvalidMeshError(f"cannot read mesh file {path}: {short(chatter.getvalue()) or 'no reader accepts it'}") from None
+    return _surface(mesh, path)
+
+
+def _surface(mesh, path):
+    faces = []
+    for block in mesh.cells:
+        data = np.asarray(block.data, dtype=np.int64)
+        if block.type == "triangle":
+            faces.append(data)
+        elif block.type == "quad" or block.type.startswith("polygon"):
+            k = data.shape[1]
+            fan = np.stack([np.zeros(k - 2, int), np.arange(1, k - 1), np.arange(2, k)], axis=1)
+            faces.append(data[:, fan].reshape(-1, 3))
+    if not faces:
+        raise NoFacesError(f"{path} holds no triangles or polygons")
+    data = {k: np.asarray(v) for k, v in mesh.point_data.items() if np.ndim(v) == 1}
+    return SurfaceMesh(np.asarray(mesh.points, dtype=float)[:, :3], np.concatenate(faces), data)
+
+
+def write_ply(path, V, F, quality, colors, selection=None):
+    """Write a binary PLY with per-vertex quality, colors and (optionally) MeshLab selection flags.
+
+    Parameters
+    ----------
+    path : str or path-like
+    V : (n, 3) float array
+    F : (m, 3) int array (``m`` may be 0: a point cloud)
+    quality : (n,) float array, written as ``property double quality``
+    colors : (n, 3) uint8 array
+    selection : (k,) int array, optional
+        Vertices to flag as selected (MeshLab's ``flags`` bit).
+    """
+    import meshio
+
+    data = {"quality": np.asarray(quality, dtype=np.float64)}
+    for name, channel in zip(("red", "green", "blue"), np.asarray(colors, dtype=np.uint8).T):
+        data[name] = channel
+    if selection is not None:
+        flags = np.zeros(len(V), dtype=np.int32)
+        flags[np.asarray(selection, dtype=np.int64)] = MESHLAB_SELECTED_FLAG
+        data["flags"] = flags
+    F = np.asarray(F, dtype=np.int32).reshape(-1, 3)
+    cells = [("triangle", F)] if len(F) else []  # a point cloud has no faces
+    mesh = meshio.Mesh(np.asarray(V, dtype=float), cells, point_data=data)
+    meshio.write(str(path), mesh, file_format="ply", binary=True)

@@ -1,0 +1,149 @@
+"""Reading point clouds (PLY, XYZ, OBJ) through library readers.
+
+PLY goes through meshio, OBJ through trimesh, and XYZ text (``x y z`` or
+``x y z nx ny nz`` per line, spaces or commas) through :func:`numpy.loadtxt`.
+Faces in the file, if any, are ignored: only the vertices are read.
+
+Examples
+--------
+>>> import tempfile, pathlib, numpy as np
+>>> path = pathlib.Path(tempfile.mkdtemp()) / "cloud.xyz"
+>>> _ = path.write_text("0 0 0\\n1 0 0\\n0 1 0\\n")
+>>> read_point_cloud(path).points.shape
+(3, 3)
+"""
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InvalidMeshError
+
+#: Suffixes read as XYZ text.
+XYZ_SUFFIXES = {".xyz", ".txt", ".pts", ".csv"}
+POINT_CLOUD_SUFFIXES = {".ply", ".obj"} | XYZ_SUFFIXES
+
+
+@dataclass
+class PointCloudFile:
+    """Points (and normals, where the file has them) read from a file.
+
+    Attributes
+    ----------
+    points : (n, 3) float array
+    normals : (n, 3) float array or None
+    """
+
+    points: np.ndarray
+    normals: np.ndarray | None = None
+
+
+def read_point_cloud(path):
+    """Read the vertices of a point-cloud file.
+
+    Parameters
+    ----------
+    path : str or path-like
+        ``.ply`` (meshio; ``nx ny nz`` vertex properties become normals),
+        ``.obj`` (trimesh; ``v`` lines, ``vn`` normals when there is one per
+        vertex) or ``.xyz``/``.txt``/``.pts``/``.csv`` (3 or 6 numeric columns).
+
+    Returns
+    -------
+    PointCloudFile
+
+    Raises
+    ------
+    InvalidMeshError
+        Missing or unreadable file, unknown suffix, no points, or a wrong
+        number of columns. Coordinates are not checked here: NaN points are
+        reported by :class:`~heatcore.domains.pointcloud.PointCloud`.
+
+    Examples
+    --------
+    >>> from heatcore.io import demo_mesh_path
+    >>> read_point_cloud(demo_mesh_path()).points.shape
+    (2930, 3)
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InvalidMeshError(f"point cloud file not found: {path}")
+    suffix = path.suffix.lower()
+    if suffix not in POINT_CLOUD_SUFFIXES:
+        raise InvalidMeshError(
+            f"cannot read {path}: point clouds are read from {', '.join(sorted(POINT_CLOUD_SUFFIXES))} files"
+        )
+    try:
+        if suffix == ".ply":
+            cloud = _read_ply(path)
+        elif suffix == ".obj":
+            cloud = _read_obj(path)
+        else:
+            cloud = _read_xyz(path)
+    except InvalidMeshError:
+        raise
+    except (Exception, SystemExit) as exc:  # readers raise many types; meshio may even exit
+        from .mesh import short
+
+        raise InvalidMeshError(f"cannot read point cloud file {path}: {short(exc) or type(exc).__name__}") from exc
+    if cloud.points.shape[0] == 0:
+        raise InvalidMeshError(f"{path} holds no points")
+    return cloud
+
+
+def _read_ply(path):
+    import contextlib
+    import io
+
+    import meshio.ply
+
+    from .ply import read_header
+
+    read_header(path)  # meshio hangs on a header without end_header
+    with contextlib.redirect_stdout(io.StringIO()):  # meshio prints its own errors
+        mesh = meshio.ply.read(str(path))  # not meshio.read: it prints the reason and exits
+    points = np.asarray(mesh.points, dtype=float)
+    data = mesh.point_data
+    normals = None
+    if all(k in data for k in ("nx", "ny", "nz")):
+        normals = np.column_stack([np.asarray(data[k], dtype=float) for k in ("nx", "ny", "nz")])
+    return PointCloudFile(_three_columns(points, path), normals)
+
+
+def _read_obj(path):
+    import trimesh
+
+    geom = trimesh.load(str(path), process=False, maintain_order=True)
+    if isinstance(geom, trimesh.Scene):
+        geom = trimesh.util.concatenate(list(geom.geometry.values())) if geom.geometry else None
+    if geom is None or not hasattr(geom, "vertices"):
+        raise InvalidMeshError(f"{path} holds no vertices")
+    points = np.asarray(geom.vertices, dtype=float)
+    normals = None
+    raw = getattr(geom, "vertex_normals", None) if isinstance(geom, trimesh.PointCloud) else None
+    if raw is not None and np.shape(raw) == points.shape:
+        normals = np.asarray(raw, dtype=float)
+    return PointCloudFile(_three_columns(points, path), normals)
+
+
+def _read_xyz(path):
+    text = path.read_text()
+    delimiter = "," if "," in text.split("\n", 1)[0] else None
+    table = np.loadtxt(path, delimiter=delimiter, ndmin=2, comments=("#", "//"))
+    if table.size == 0:
+        return PointCloudFile(np.zeros((0, 3)))
+    if table.shape[1] not in (3, 6):
+        raise InvalidMeshError(
+            f"{path} has {table.shape[1]} columns per line: expected 3 (x y z) or 6 (x y z nx ny nz)"
+        )
+    normals = table[:, 3:6] if table.shape[1] == 6 else None
+    return PointCloudFile(table[:, :3].astype(float), normals)
+
+
+def _three_columns(points, path):
+    if points.ndim != 2 or points.shape[1] not in (2, 3):
+        raise InvalidMeshError(f"{path}: points must have 3 coordinates, got shape {points.shape}")
+    if points.shape[1] == 2:
+        points = np.column_stack([points, np.zeros(points.shape[0])])
+    return points
