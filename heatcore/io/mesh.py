@@ -9,7 +9,7 @@ scans), which meshio rejects, are read by :mod:`heatcore.io.ply`.
 
 A file that cannot be read gives one :class:`~heatcore.errors.InvalidMeshError`
 saying why (an empty file, a PLY without vertices, the reader's own words cut
-to :data:`MAX_DETAIL` characters), never the reader's printout.
+to :data:`~heatcore.errors.MAX_DETAIL` characters), never the reader's printout.
 
 Examples
 --------
@@ -24,29 +24,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InvalidMeshError, NoFacesError
+from ..errors import MAX_DETAIL, InvalidMeshError, NoFacesError, short  # noqa: F401 (short, MAX_DETAIL: kept importable here)
 
 #: MeshLab (VCG) stores the selection in bit 5 of the per-vertex ``flags`` PLY property.
 MESHLAB_SELECTED_FLAG = 0x20
 
 TRIMESH_SUFFIXES = {".obj", ".off", ".stl", ".glb", ".gltf"}
-
-#: Longest reader message kept in an error (some readers quote whole files).
-MAX_DETAIL = 300
-
-
-def short(text, limit=MAX_DETAIL):
-    """``text`` on one line, at most ``limit`` characters (a reader's message inside one of ours).
-
-    Examples
-    --------
-    >>> short("line one\\n   line two")
-    'line one line two'
-    >>> len(short("x" * 5000))
-    300
-    """
-    text = " ".join(str(text).split())
-    return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
 def check_not_empty(path):

@@ -26,7 +26,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import InvalidMeshError
+from ..errors import InvalidMeshError, short
 
 #: A PLY header longer than this is not a header.
 MAX_HEADER_BYTES = 1 << 20
@@ -78,8 +78,6 @@ def read_header(path):
     >>> read_header(path).counts()
     {'vertex': 0}
     """
-    from .mesh import short
-
     path = Path(path)
     with open(path, "rb") as f:
         head = f.read(MAX_HEADER_BYTES)

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InvalidMeshError
+from ..errors import InvalidMeshError, short
 
 #: Suffixes read as XYZ text.
 XYZ_SUFFIXES = {".xyz", ".txt", ".pts", ".csv"}
@@ -84,8 +84,6 @@ def read_point_cloud(path):
     except InvalidMeshError:
         raise
     except (Exception, SystemExit) as exc:  # readers raise many types; meshio may even exit
-        from .mesh import short
-
         raise InvalidMeshError(f"cannot read point cloud file {path}: {short(exc) or type(exc).__name__}") from exc
     if cloud.points.shape[0] == 0:
         raise InvalidMeshError(f"{path} holds no points")

@@ -32,8 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InvalidMeshError
-from .mesh import short
+from ..errors import InvalidMeshError, short
 
 
 @dataclass

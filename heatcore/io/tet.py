@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import HeatcoreWarning, InvalidMeshError, InvalidOptionError
+from ..errors import HeatcoreWarning, InvalidMeshError, InvalidOptionError, short
 
 #: Suffixes whose meshio writer keeps point data, and the meshio format used.
 DISTANCE_FORMATS = {".vtu": "vtu", ".vtk": "vtk", ".msh": "gmsh"}
@@ -77,8 +77,6 @@ def read_tet_mesh(path):
         with contextlib.redirect_stdout(io.StringIO()):  # meshio prints its own errors
             mesh = meshio.read(str(path), file_format=fmt)
     except (Exception, SystemExit) as exc:  # readers raise many types; meshio may even exit
-        from .mesh import short
-
         raise InvalidMeshError(f"cannot read tet mesh file {path}: {short(exc) or type(exc).__name__}") from exc
     blocks = [b for b in mesh.cells if b.type in TET_CELL_TYPES]
     if not blocks:

@@ -1,0 +1,599 @@
+"""heatcore's module import graph, read statically: cycles and arrows that run up the layers.
+
+Every ``import`` statement of ``heatcore/`` and ``blender_addon/`` is read with
+:mod:`ast` (nothing is imported or executed): absolute and relative imports,
+imports inside functions (they still close cycles at run time) and
+``importlib.import_module`` calls whose name is written in the source. An
+import ``from pkg import name`` is an arrow to the module ``pkg.name`` when
+that module exists, else to ``pkg``. Importing a submodule also runs its
+parents' ``__init__``; those implicit arrows are not counted.
+
+The layers, bottom to top (an arrow may point down or within its group,
+never up and never sideways to a sibling group):
+
+    front ends   apps/ (and heatcore.__main__)  |  blender_addon/
+    api          heatcore/__init__.py
+    io | viz     io/ (file readers and writers)  |  viz/ (colormaps, renderer)
+    solver       heat.py, eikonal.py, reference.py
+    domains      domains/
+    linalg       linalg/ (knows no geometry)
+    foundation   errors.py, options.py
+
+plus fences: domains import no linalg backend (only the ``linalg.factor``
+interface), and ``ctypes`` is imported only under ``heatcore/linalg/``.
+
+Usage::
+
+    python scripts/import_graph.py                  # the working tree
+    python scripts/import_graph.py --rev d03b81d    # a commit, read through git show
+    python scripts/import_graph.py --draw docs/images/layers.png
+    python scripts/import_graph.py --json
+
+Examples
+--------
+>>> graph = build_graph({"heatcore/__init__.py": "from . import heat",
+...                      "heatcore/heat.py": "def f():\\n    import heatcore\\n"})
+>>> sorted(graph.edges)
+[('heatcore', 'heatcore.heat'), ('heatcore.heat', 'heatcore')]
+>>> find_cycles(graph)
+[['heatcore', 'heatcore.heat']]
+"""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import fnmatch
+import json
+import subprocess
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+ROOTS = ("heatcore", "blender_addon")
+
+# Layers bottom to top: (layer, [(group, description, module patterns)]). Groups in one layer are
+# siblings: neither imports the other. The flat names of the layout before 0d3c9d9 are listed
+# too, so that an old revision is judged by the same rules.
+LAYERS = [
+    ("foundation", [("errors", "errors, options: what every layer may raise or declare",
+                     ["heatcore.errors", "heatcore.options", "heatcore.options.*"])]),
+    ("linalg", [("linalg", "sparse SPD factorizations, orderings; no geometry",
+                 ["heatcore.linalg", "heatcore.linalg.*", "heatcore.sparse_rhs"])]),
+    ("domains", [("domains", "what the heat method runs on: operators and source pins",
+                  ["heatcore.domains", "heatcore.domains.*", "heatcore.domain", "heatcore.intrinsic",
+                   "heatcore.operators", "heatcore.parts", "heatcore.pointcloud", "heatcore.polygon",
+                   "heatcore.polygon_shape", "heatcore.refine", "heatcore.sources", "heatcore.tet",
+                   "heatcore.triangle", "heatcore.validate", "heatcore.weld"])]),
+    ("solver", [("solver", "the heat method, the eikonal pass, reference distances",
+                 ["heatcore.heat", "heatcore.heat.*", "heatcore.eikonal", "heatcore.eikonal.*",
+                  "heatcore.reference"])]),
+    ("io | viz", [("io", "reading and writing files; raises core errors",
+                   ["heatcore.io", "heatcore.io.*", "heatcore.domain_io", "heatcore.ply",
+                    "heatcore.pointcloud_io", "heatcore.polygon_io", "heatcore.tet_io"]),
+                  ("viz", "colormaps and the software renderer",
+                   ["heatcore.viz", "heatcore.viz.*", "heatcore.colormap", "heatcore.render"])]),
+    ("api", [("api", "the public API: heatcore/__init__.py", ["heatcore"])]),
+    ("front ends", [("apps", "command line, batch, MeshLab filter",
+                     ["heatcore.apps", "heatcore.apps.*", "heatcore.__main__", "heatcore.cli",
+                      "heatcore.inputs", "heatcore.outputs", "heatcore.meshlab", "heatcore.batch",
+                      "heatcore.batch_*"]),
+                    ("blender_addon", "the Blender add-on", ["blender_addon", "blender_addon.*"])]),
+]
+
+# Arrows forbidden although they point down: (from patterns, to patterns, allowed targets, why).
+FENCES = [
+    (["heatcore.domains", "heatcore.domains.*"], ["heatcore.linalg", "heatcore.linalg.*"],
+     ["heatcore.linalg.factor"], "domains import no linalg backend (only the linalg.factor interface)"),
+]
+
+# External modules only some of heatcore may import: (module, allowed importer patterns).
+FENCED_EXTERNALS = [("ctypes", ["heatcore.linalg", "heatcore.linalg.*"])]
+
+
+@dataclass
+class Graph:
+    """Modules (name -> path), arrows (importer, imported) -> line numbers, external imports."""
+
+    modules: dict = field(default_factory=dict)
+    edges: dict = field(default_factory=dict)
+    externals: dict = field(default_factory=dict)  # module -> {top-level external name: [lines]}
+    lines: dict = field(default_factory=dict)  # module -> line count
+
+
+def module_name(path):
+    """Dotted module name of a source path: ``heatcore/io/__init__.py`` -> ``heatcore.io``.
+
+    Examples
+    --------
+    >>> module_name("heatcore/domains/triangle.py"), module_name("heatcore/io/__init__.py")
+    ('heatcore.domains.triangle', 'heatcore.io')
+    """
+    parts = list(Path(path).with_suffix("").parts)
+    if parts[-1] == "__init__":
+        parts.pop()
+    return ".".join(parts)
+
+
+def read_sources(rev=None, repo=REPO):
+    """``{path: source}`` of every ``.py`` under ``heatcore/`` and ``blender_addon/``.
+
+    With ``rev`` (a commit, tag or branch) the files are read through ``git show``,
+    without touching the working tree.
+    """
+    if rev is None:
+        return {
+            p.relative_to(repo).as_posix(): p.read_text(encoding="utf-8")
+            for root in ROOTS
+            for p in sorted((repo / root).rglob("*.py"))
+            if "_vendor" not in p.parts and "__pycache__" not in p.parts
+        }
+    names = subprocess.run(
+        ["git", "-C", str(repo), "ls-tree", "-r", "--name-only", rev, "--", *ROOTS],
+        check=True, capture_output=True, text=True,
+    ).stdout.split()
+    return {
+        name: subprocess.run(
+            ["git", "-C", str(repo), "show", f"{rev}:{name}"], check=True, capture_output=True, text=True
+        ).stdout
+        for name in names
+        if name.endswith(".py") and "/_vendor/" not in name
+    }
+
+
+def _package_of(module, is_package):
+    return module if is_package else module.rpartition(".")[0]
+
+
+def _resolve_relative(module, is_package, level, name):
+    base = _package_of(module, is_package).split(".")
+    if level > 1:
+        base = base[: len(base) - (level - 1)]
+    return ".".join(base + ([name] if name else []))
+
+
+def _internal(name, modules):
+    """The longest prefix of ``name`` that is one of ``modules`` (None when external)."""
+    parts = name.split(".")
+    for i in range(len(parts), 0, -1):
+        candidate = ".".join(parts[:i])
+        if candidate in modules:
+            return candidate
+    return None
+
+
+def _dynamic_name(call, bindings):
+    """The module name of ``importlib.import_module(...)`` when the source spells it, else None."""
+    func = call.func
+    named = (isinstance(func, ast.Attribute) and func.attr == "import_module") or (
+        isinstance(func, ast.Name) and func.id == "import_module"
+    )
+    if not named or not call.args:
+        return None
+    arg = call.args[0]
+    if isinstance(arg, ast.Constant) and isinstance(arg.value, str):
+        return arg.value
+    # pkg.__name__ + ".sub": the module bound to ``pkg`` by an import in this file, plus ".sub"
+    if (
+        isinstance(arg, ast.BinOp)
+        and isinstance(arg.op, ast.Add)
+        and isinstance(arg.right, ast.Constant)
+        and isinstance(arg.right.value, str)
+        and isinstance(arg.left, ast.Attribute)
+        and arg.left.attr == "__name__"
+        and isinstance(arg.left.value, ast.Name)
+        and arg.left.value.id in bindings
+    ):
+        return bindings[arg.left.value.id] + arg.right.value
+    return None
+
+
+def _note(externals, name, line):
+    lines = externals.setdefault(name, [])
+    if line not in lines:
+        lines.append(line)
+
+
+def build_graph(sources):
+    """The import graph of ``{path: source}`` (see :func:`read_sources`).
+
+    Examples
+    --------
+    >>> g = build_graph({"heatcore/__init__.py": "", "heatcore/a.py": "from . import b\\nimport numpy",
+    ...                  "heatcore/b.py": "from .a import x"})
+    >>> sorted(g.edges), g.externals["heatcore.a"]
+    ([('heatcore.a', 'heatcore.b'), ('heatcore.b', 'heatcore.a')], {'numpy': [2]})
+    """
+    graph = Graph()
+    trees = {}
+    for path, text in sorted(sources.items()):
+        name = module_name(path)
+        graph.modules[name] = path
+        graph.lines[name] = len(text.splitlines())
+        trees[name] = (ast.parse(text, filename=path), Path(path).name == "__init__.py")
+
+    def add(src, dst, line):
+        if dst != src:
+            lines = graph.edges.setdefault((src, dst), [])
+            if line not in lines:
+                lines.append(line)
+
+    for name, (tree, is_package) in trees.items():
+        externals = graph.externals.setdefault(name, {})
+        bindings = {}  # local name -> internal module it was bound to by an import
+        nodes = list(ast.walk(tree))
+        for node in nodes:
+            if isinstance(node, ast.Import):
+                for alias in node.names:
+                    top = alias.name.split(".")[0]
+                    target = _internal(alias.name, graph.modules) if top in ROOTS else None
+                    if target is None:
+                        _note(externals, top, node.lineno)
+                        continue
+                    add(name, target, node.lineno)
+                    bindings[alias.asname or top] = target if alias.asname else top
+            elif isinstance(node, ast.ImportFrom):
+                if node.level:
+                    base = _resolve_relative(name, is_package, node.level, node.module)
+                else:
+                    base = node.module
+                if base not in graph.modules:
+                    if base.split(".")[0] not in ROOTS:
+                        _note(externals, base.split(".")[0], node.lineno)
+                    continue  # a module not in the tree (blender_addon._vendor: the bundled copy)
+                for alias in node.names:
+                    full = f"{base}.{alias.name}"
+                    add(name, full if full in graph.modules else base, node.lineno)
+                    if full in graph.modules:
+                        bindings[alias.asname or alias.name] = full
+        for node in nodes:  # after the imports: names bound anywhere in the file are known
+            if isinstance(node, ast.Call):
+                dynamic = _dynamic_name(node, bindings)
+                if dynamic is not None:
+                    target = _internal(dynamic, graph.modules)
+                    if target is not None:
+                        add(name, target, node.lineno)
+                    else:
+                        _note(externals, dynamic.split(".")[0], node.lineno)
+    return graph
+
+
+def strongly_connected(graph):
+    """Strongly connected components of more than one module (Tarjan), each sorted."""
+    succ = {m: [] for m in graph.modules}
+    for a, b in graph.edges:
+        succ[a].append(b)
+    index, low, stack, on_stack, out = {}, {}, [], set(), []
+    counter = [0]
+
+    def visit(v):
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on_stack.add(v)
+        for w in sorted(succ[v]):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    sys.setrecursionlimit(max(10000, sys.getrecursionlimit()))
+    for v in sorted(succ):
+        if v not in index:
+            visit(v)
+    return sorted(out)
+
+
+def find_cycles(graph, limit=100):
+    """Elementary import cycles (each as a list of modules, smallest first), at most ``limit``.
+
+    Examples
+    --------
+    >>> g = build_graph({"heatcore/a.py": "from . import b", "heatcore/b.py": "from . import a",
+    ...                  "heatcore/__init__.py": ""})
+    >>> find_cycles(g)
+    [['heatcore.a', 'heatcore.b']]
+    """
+    cycles = []
+    for comp in strongly_connected(graph):
+        members = set(comp)
+        succ = {m: sorted(b for (a, b) in graph.edges if a == m and b in members) for m in comp}
+        for start in comp:  # cycles whose smallest module is ``start``
+            path, stack = [start], [iter(succ[start])]
+            while stack:
+                for w in stack[-1]:
+                    if w == start:
+                        cycles.append(list(path))
+                        if len(cycles) >= limit:
+                            return cycles
+                    elif w > start and w not in path:
+                        path.append(w)
+                        stack.append(iter(succ[w]))
+                        break
+                else:
+                    stack.pop()
+                    path.pop()
+    return sorted(cycles, key=lambda c: (len(c), c))
+
+
+def _matches(name, patterns):
+    return any(fnmatch.fnmatchcase(name, p) for p in patterns)
+
+
+def layer_of(module):
+    """``(rank, layer, group)`` of a module, or None when no layer claims it.
+
+    Examples
+    --------
+    >>> layer_of("heatcore.domains.triangle")
+    (2, 'domains', 'domains')
+    >>> layer_of("blender_addon.api")
+    (6, 'front ends', 'blender_addon')
+    """
+    for rank, (layer, groups) in enumerate(LAYERS):
+        for group, _, patterns in groups:
+            if _matches(module, patterns):
+                return rank, layer, group
+    return None
+
+
+def upward_arrows(graph):
+    """Arrows that point up the layers or sideways to a sibling group, and fence breaches.
+
+    Returns a sorted list of ``(importer, imported, lines, why)``.
+    """
+    out = []
+    for (a, b), lines in sorted(graph.edges.items()):
+        la, lb = layer_of(a), layer_of(b)
+        if la is None or lb is None:
+            continue  # reported by unlayered()
+        if lb[0] > la[0]:
+            out.append((a, b, lines, f"{la[2]} ({la[1]}) imports {lb[2]} ({lb[1]}), a layer above"))
+        elif lb[0] == la[0] and lb[2] != la[2]:
+            out.append((a, b, lines, f"{la[2]} imports its sibling {lb[2]}"))
+        else:
+            for src, dst, allowed, why in FENCES:
+                if _matches(a, src) and _matches(b, dst) and not _matches(b, allowed):
+                    out.append((a, b, lines, why))
+    return out
+
+
+def fenced_externals(graph):
+    """``(module, external, lines)`` for each fenced external module imported outside its fence."""
+    out = []
+    for module, externals in sorted(graph.externals.items()):
+        for external, allowed in FENCED_EXTERNALS:
+            if external in externals and not _matches(module, allowed):
+                out.append((module, external, externals[external]))
+    return out
+
+
+def unlayered(graph):
+    """Modules that no layer claims (a new top-level module must be given a layer)."""
+    return sorted(m for m in graph.modules if layer_of(m) is None)
+
+
+def summary(graph):
+    """A dict of the figures: modules, edges, cycles, upward arrows, fence breaches."""
+    return {
+        "modules": len(graph.modules),
+        "edges": len(graph.edges),
+        "cycles": find_cycles(graph),
+        "upward": [
+            {"from": a, "to": b, "lines": lines, "why": why} for a, b, lines, why in upward_arrows(graph)
+        ],
+        "fenced_externals": [
+            {"module": m, "imports": e, "lines": lines} for m, e, lines in fenced_externals(graph)
+        ],
+        "unlayered": unlayered(graph),
+    }
+
+
+def report(graph, title):
+    """The figures as text."""
+    s = summary(graph)
+    out = [f"{title}: {s['modules']} modules, {s['edges']} import arrows, "
+           f"{len(s['cycles'])} cycles, {len(s['upward'])} upward arrows"]
+    out.append("cycles:" if s["cycles"] else "cycles: none")
+    out += ["  " + " -> ".join(c + [c[0]]) for c in s["cycles"]]
+    out.append("upward arrows:" if s["upward"] else "upward arrows: none")
+    out += [f"  {u['from']} -> {u['to']} (line {', '.join(map(str, u['lines']))}): {u['why']}"
+            for u in s["upward"]]
+    if s["fenced_externals"]:
+        out.append("fenced external imports:")
+        out += [f"  {f['module']} imports {f['imports']} (line {', '.join(map(str, f['lines']))})"
+                for f in s["fenced_externals"]]
+    if s["unlayered"]:
+        out.append("modules in no layer: " + ", ".join(s["unlayered"]))
+    return "\n".join(out)
+
+
+# ---------------------------------------------------------------------------------------------
+# the layer diagram
+
+def _short(module, group):
+    """A module's name inside its group's box: ``heatcore.domains.triangle`` -> ``triangle.py``."""
+    prefixes = {"api": "heatcore", "blender_addon": "blender_addon"}
+    parts = module.split(".")
+    if group in prefixes:
+        base = prefixes[group].split(".")
+    elif module == "heatcore.__main__":
+        return "__main__.py"
+    elif len(parts) >= 2 and parts[1] in {"linalg", "domains", "io", "viz", "apps"}:
+        base = parts[:2]
+    else:
+        base = parts[:1]
+    rest = parts[len(base):]
+    if not rest:
+        return "__init__.py"
+    return "/".join(rest) + ".py"
+
+
+def draw(graph, path, title="heatcore: modules by layer"):
+    """Draw the layers as boxes listing their modules, with one arrow per pair of groups that
+    import each other (labelled with the number of module arrows); arrows that run up are red."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.patches import FancyArrowPatch, FancyBboxPatch
+
+    members = {}
+    for m in graph.modules:
+        where = layer_of(m)
+        key = where[2] if where else "unlayered"
+        members.setdefault(key, []).append(m)
+    for names in members.values():
+        names.sort(key=lambda m: (not m.endswith(("__init__", "heatcore", "blender_addon")) and
+                                  _short(m, "") != "__init__.py", m))
+
+    # geometry: each layer a band; sibling groups side by side
+    width, gap_x, row_h, pad, band_gap = 12.0, 0.5, 0.27, 0.28, 0.75
+    packages_in = {}
+    boxes, y = {}, 0.0
+    for rank, (layer, groups) in enumerate(LAYERS):
+        present = [(g, d, p) for g, d, p in groups if members.get(g)]
+        if not present:
+            continue
+        n = len(present)
+        box_w = (width - gap_x * (n - 1)) / n
+        heights = []
+        layouts = []
+        for group, desc, _ in present:
+            names = [_short(m, group) for m in sorted(members[group])]
+            ncols = max(1, min(4, int(box_w // 2.6)))
+            nrows = -(-len(names) // ncols)
+            heights.append(pad * 2 + 0.42 + nrows * row_h)
+            layouts.append((names, ncols, nrows))
+            packages_in[group] = len(names)
+        h = max(heights)
+        for i, ((group, desc, _), (names, ncols, nrows)) in enumerate(zip(present, layouts)):
+            x0 = i * (box_w + gap_x)
+            boxes[group] = dict(x=x0, y=y, w=box_w, h=h, names=names, ncols=ncols, desc=desc,
+                                layer=layer, rank=rank)
+        y += h + band_gap
+    total_h = y - band_gap
+
+    fig_h = total_h * 0.62 + 1.3
+    fig, ax = plt.subplots(figsize=(13.5, fig_h))
+    ax.set_xlim(-2.3, width + 0.2)
+    ax.set_ylim(-0.35, total_h + 0.55)
+    ax.axis("off")
+    colors = {
+        "errors": "#e8e8e8", "linalg": "#dce9f7", "domains": "#dff2df", "solver": "#fde9cf",
+        "io": "#efe1f5", "viz": "#fbe0e6", "api": "#fff6c4", "apps": "#e0f1f3", "blender_addon": "#f3ecdc",
+    }
+    labelled = set()
+    for group, b in boxes.items():
+        ax.add_patch(FancyBboxPatch((b["x"], b["y"]), b["w"], b["h"], boxstyle="round,pad=0.02,rounding_size=0.12",
+                                    fc=colors.get(group, "#eeeeee"), ec="#555555", lw=1.2, zorder=1))
+        header = group + ("/" if group in {"linalg", "domains", "io", "viz", "apps", "blender_addon"} else "")
+        ax.text(b["x"] + 0.15, b["y"] + b["h"] - 0.2, header, fontsize=11.5, fontweight="bold",
+                va="top", ha="left", zorder=3)
+        ax.text(b["x"] + 0.15 + 0.115 * len(header) + 0.25, b["y"] + b["h"] - 0.23, b["desc"], fontsize=8.5,
+                va="top", ha="left", color="#444444", style="italic", zorder=3)
+        col_w = (b["w"] - 0.3) / b["ncols"]
+        nrows = -(-len(b["names"]) // b["ncols"])
+        for k, name in enumerate(b["names"]):
+            c, r = divmod(k, nrows)
+            ax.text(b["x"] + 0.25 + c * col_w, b["y"] + b["h"] - 0.72 - r * row_h, name, fontsize=9,
+                    family="monospace", va="center", ha="left", zorder=3)
+        if b["layer"] not in labelled:
+            labelled.add(b["layer"])
+            ax.text(-0.25, b["y"] + b["h"] / 2, b["layer"], fontsize=10.5, ha="right", va="center",
+                    color="#333333", fontweight="bold")
+
+    # arrows between groups
+    counts = {}
+    for (a, b_) in graph.edges:
+        la, lb = layer_of(a), layer_of(b_)
+        ga, gb = (la[2] if la else "unlayered"), (lb[2] if lb else "unlayered")
+        if ga != gb and ga in boxes and gb in boxes:
+            counts[(ga, gb)] = counts.get((ga, gb), 0) + 1
+    bad = {(la[2], lb[2]) for a, b_, _, _ in upward_arrows(graph)
+           for la, lb in [(layer_of(a), layer_of(b_))]}
+    # spread arrow ends along each box edge so arrows do not overlap
+    out_edges, in_edges = {}, {}
+    for (ga, gb) in sorted(counts, key=lambda e: (boxes[e[1]]["x"], boxes[e[1]]["rank"])):
+        out_edges.setdefault(ga, []).append((ga, gb))
+    for (ga, gb) in sorted(counts, key=lambda e: (boxes[e[0]]["x"], -boxes[e[0]]["rank"])):
+        in_edges.setdefault(gb, []).append((ga, gb))
+
+    def slot(box, edges, edge):
+        i, n = edges.index(edge), len(edges)
+        return box["x"] + box["w"] * (0.12 + 0.76 * (i + 0.5) / n)
+
+    for (ga, gb), n in sorted(counts.items()):
+        A, B = boxes[ga], boxes[gb]
+        upward = B["rank"] > A["rank"] or (ga, gb) in bad
+        x1, x2 = slot(A, out_edges[ga], (ga, gb)), slot(B, in_edges[gb], (ga, gb))
+        if B["rank"] < A["rank"]:
+            y1, y2 = A["y"], B["y"] + B["h"]
+        elif B["rank"] > A["rank"]:
+            y1, y2 = A["y"] + A["h"], B["y"]
+        else:  # siblings
+            y1 = y2 = A["y"] + A["h"] / 2
+            x1 = A["x"] + (A["w"] if B["x"] > A["x"] else 0)
+            x2 = B["x"] + (0 if B["x"] > A["x"] else B["w"])
+        skip = abs(B["rank"] - A["rank"]) > 1
+        color = "#cc0000" if upward else ("#1f4e79" if not skip else "#5b7fa6")
+        arrow = FancyArrowPatch((x1, y1), (x2, y2), arrowstyle="-|>", mutation_scale=14, lw=1.4,
+                                color=color, zorder=4 if not upward else 5,
+                                connectionstyle="arc3,rad=0.0", shrinkA=1, shrinkB=1)
+        ax.add_patch(arrow)
+        t = 0.5 if not skip else 0.22
+        ax.text(x1 + (x2 - x1) * t, y1 + (y2 - y1) * t, str(n), fontsize=8, ha="center", va="center",
+                color=color, zorder=6, bbox=dict(boxstyle="round,pad=0.12", fc="white", ec=color, lw=0.6))
+
+    s = summary(graph)
+    ax.text(-2.3, total_h + 0.45, title, fontsize=14, fontweight="bold", va="bottom")
+    ax.text(width + 0.2, total_h + 0.45,
+            f"{s['modules']} modules, {s['edges']} imports; {len(s['cycles'])} cycles, "
+            f"{len(s['upward'])} upward", fontsize=9.5, ha="right", va="bottom", color="#333333")
+    ax.text(-2.3, -0.3, "An arrow runs from the importing group to the imported one; its number counts "
+            "module-to-module imports. Arrows run down, never up (red) nor between siblings.",
+            fontsize=8.5, color="#444444", va="top")
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110, bbox_inches="tight", facecolor="white")
+    plt.close(fig)
+    return path
+
+
+def main(argv=None):
+    """Command line: print the figures (or JSON), optionally draw the diagram."""
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--rev", help="read the files of this git revision (git show), not the working tree")
+    parser.add_argument("--json", action="store_true", help="print the figures as JSON")
+    parser.add_argument("--edges", action="store_true", help="also list every import arrow")
+    parser.add_argument("--draw", metavar="PNG", help="draw the layer diagram to this file")
+    args = parser.parse_args(argv)
+    graph = build_graph(read_sources(args.rev))
+    title = f"revision {args.rev}" if args.rev else "working tree"
+    if args.json:
+        print(json.dumps(summary(graph), indent=1))
+    else:
+        print(report(graph, title))
+    if args.edges:
+        for (a, b), lines in sorted(graph.edges.items()):
+            print(f"  {a} -> {b}  ({', '.join(map(str, lines))})")
+    if args.draw:
+        print("drew", draw(graph, args.draw))
+    s = summary(graph)
+    return 1 if (s["cycles"] or s["upward"] or s["fenced_externals"] or s["unlayered"]) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
