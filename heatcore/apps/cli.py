@@ -2,9 +2,10 @@
 
 Subcommands are registered in :data:`COMMANDS` with the :func:`command`
 decorator (a function that adds the arguments, and one that runs them), so
-a new subcommand is one more decorated pair. Solver options are declared once
-in :data:`SOLVER_OPTIONS` and routed to :class:`~heatcore.TriangleMesh` or
-:class:`~heatcore.HeatSolver`; a new solver option is one more entry there.
+a new subcommand is one more decorated pair; their arguments live in
+:mod:`heatcore.apps.arguments`. Solver options are declared once, in
+:mod:`heatcore.options` (flags, ranges, defaults, help), and routed to the
+domain or to :class:`~heatcore.HeatSolver` by their declared target.
 
 Progress and timings go to stderr (``--quiet`` silences them); results and
 the paths written go to stdout. Every error is one line on stderr. Exit
@@ -23,7 +24,6 @@ heatcore ...
 0
 """
 
-import argparse
 import logging
 import sys
 import time
@@ -36,20 +36,21 @@ import numpy as np
 
 from ..errors import HeatcoreError, HeatcoreWarning, InvalidMeshError
 from ..io.mesh import short
-from .inputs import (
-    _non_negative_float,
-    _non_negative_int,
-    _positive_float,
-    _refine_levels,
-    _vertex_index,
-    check_sources,
-    command_line_sources,
-    gather_sources,
-    read_mesh_file,
+from .arguments import (  # noqa: F401 (SOLVER_OPTIONS, add_*_options: part of this module's API)
+    SOLVER_OPTIONS,
+    _Parser,
+    add_common_options,
+    add_output_options,
+    add_solver_options,
+    batch_arguments,
+    demo_arguments,
+    distance_arguments,
+    meshlab_arguments,
+    solver_keywords,
 )
+from .inputs import check_sources, command_line_sources, gather_sources, read_mesh_file
 from .outputs import (  # noqa: F401 (check_outputs_fit, OUTPUT_SUFFIXES: part of this module's API)
     OUTPUT_SUFFIXES,
-    PNG_ISOLINES,
     VOLUME_OUTPUT_SUFFIXES,
     CliError,
     UsageError,
@@ -70,87 +71,17 @@ DEMO_VIEW = {"elevation": 15.0, "azimuth": 150.0, "up": "y"}
 # --------------------------------------------------------------------------- options
 
 
-def _colormaps():
-    from ..viz.colormap import COLORMAPS
-
-    return sorted(COLORMAPS)
-
-
-#: Solver options: (flags, target, argparse keywords). ``target`` is "mesh"
-#: (a keyword of TriangleMesh, via DomainFile.domain) or "solver" (a keyword
-#: of HeatSolver); the keyword is the option's ``dest``. One entry per
-#: option; entries sharing a ``dest`` exclude each other on the command line.
-SOLVER_OPTIONS = [
-    (("--m",), "solver", dict(dest="m", type=_positive_float, default=1.0, metavar="M",
-        help="heat time factor: t = M * h^2, h the mean edge length; larger M gives a "
-             "smoother distance (default: %(default)s)")),
-    (("--boundary",), "solver", dict(dest="boundary", choices=("robin", "neumann", "dirichlet"),
-        default="robin", help="boundary condition of the heat step on meshes with boundary: "
-                              "robin (mean of neumann and dirichlet, the paper's advice), "
-                              "neumann or dirichlet (default: %(default)s)")),
-    (("--accuracy",), "solver", dict(dest="accuracy", choices=("smooth", "high"), default="smooth",
-        help="smooth: the heat method (its error is 1-2%%); high: heat method followed by an "
-             "ordered eikonal pass (about 0.1-0.3%% error, a few times slower per query) "
-             "(default: %(default)s)")),
-    (("--no-robust",), "mesh", dict(dest="robust", action="store_false",
-        help="plain cotan operators on the input triangles instead of the intrinsic "
-             "Delaunay triangulation (faster to build, much less accurate on poor meshes)")),
-    (("--refine",), "mesh", dict(dest="refine", type=_refine_levels, default="auto", metavar="LEVELS",
-        help="midpoint subdivision levels before solving: 'auto' (refine meshes under "
-             "11k vertices) or 0..8; results are read back at the input vertices "
-             "(default: %(default)s)")),
-    (("--weld-tolerance",), "mesh", dict(dest="weld", type=_non_negative_float, default=0.0, metavar="TOL",
-        help="merge vertices closer than TOL (mesh units) into one before solving, as STL files "
-             "and OBJ seams need; 0 merges vertices at exactly the same position; distances are "
-             "still written for every vertex of the file (default: 0)")),
-    (("--no-weld",), "mesh", dict(dest="weld", action="store_const", const=None, default=0.0,
-        help="solve on the file's vertices as they are (coincident vertices stay apart)")),
-]
-
-
-def add_solver_options(parser):
-    group = parser.add_argument_group("solver options")
-    shared = {}
-    for flags, _, kwargs in SOLVER_OPTIONS:
-        dest = kwargs["dest"]
-        if sum(k["dest"] == dest for _, _, k in SOLVER_OPTIONS) > 1:  # e.g. --weld-tolerance, --no-weld
-            if dest not in shared:
-                shared[dest] = group.add_mutually_exclusive_group()
-            shared[dest].add_argument(*flags, **kwargs)
-        else:
-            group.add_argument(*flags, **kwargs)
-
-
 def build_solver(source, args):
     """Domain + HeatSolver from a :class:`~heatcore.io.domain.DomainFile` and the solver options."""
     from ..heat import HeatSolver
 
-    kw = {"mesh": {}, "solver": {}}
-    for _, target, kwargs in SOLVER_OPTIONS:
-        kw[target][kwargs["dest"]] = getattr(args, kwargs["dest"])
+    kw = solver_keywords(args)
     with _stage("precompute"):
         solver = HeatSolver(source.domain(**kw["mesh"]), **kw["solver"])
     welded = getattr(solver.domain, "n_welded", 0)
     if welded:
         log.info("welded %s coincident vertices: %s remain", f"{welded:,}", f"{len(source.vertices) - welded:,}")
     return solver
-
-
-def add_output_options(parser, png_help=None):
-    """--colormap, --isolines and (given ``png_help``) --png."""
-    group = parser.add_argument_group("picture and colors")
-    group.add_argument("--colormap", default="viridis", choices=_colormaps(),
-                       help="perceptual colormap of the PLY vertex colors and the PNG (default: %(default)s)")
-    group.add_argument("--isolines", type=_non_negative_int, default=None, metavar="N",
-                       help=f"number of evenly spaced isolines: dark stripes in the PLY vertex colors "
-                            f"and lines in the PNG (default: none in the PLY, {PNG_ISOLINES} in the PNG; "
-                            f"0: none)")
-    if png_help:
-        group.add_argument("--png", type=Path, default=None, metavar="PATH", help=png_help)
-
-
-def add_common_options(parser):
-    parser.add_argument("-q", "--quiet", action="store_true", help="no progress or timing lines on stderr")
 
 
 # --------------------------------------------------------------------------- registry
@@ -216,38 +147,9 @@ def _summary(d):
 # --------------------------------------------------------------------------- distance
 
 
-def _distance_arguments(p):
-    p.add_argument("mesh", type=Path, metavar="MESH",
-                   help="mesh file: PLY (keeps MeshLab's vertex selection), OBJ, OFF, STL, glTF, ...; "
-                        "tetrahedral meshes (.msh, .vtu, .vtk, .mesh, .node/.ele); point clouds "
-                        "(.xyz, or PLY/OBJ without faces)")
-    p.add_argument("--domain", choices=("auto", "triangle", "polygon", "tet", "points"), default="auto",
-                   help="how to read MESH: auto (tets from volume formats, points from files without "
-                        "faces, triangles otherwise), or force one; 'polygon' keeps quads and n-gons "
-                        "(virtual refinement) instead of triangulating them (default: %(default)s)")
-    src = p.add_argument_group("sources (combined; default: the PLY's selected vertices)")
-    src.add_argument("-s", "--source", type=_vertex_index, action="append", metavar="INDEX",
-                     help="source vertex index (0-based); repeat for several sources")
-    src.add_argument("--sources-file", type=Path, action="append", metavar="FILE",
-                     help="text file of 0-based vertex indices separated by whitespace or commas "
-                          "('#' starts a comment); may be repeated")
-    p.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
-                   help="output file, format by extension: .ply (quality + colors), .npy, .csv "
-                        "(index,distance), or for tetrahedral meshes .vtu/.vtk/.msh (point-data field "
-                        "'distance'); repeat for several. Outputs are written whole or not at all "
-                        "(a temporary file, then renamed)")
-    p.add_argument("--overwrite", action="store_true",
-                   help="allow an output to replace an input file (the mesh or a sources file); "
-                        "the input's other vertex properties are not kept")
-    add_output_options(p, png_help="also write a PNG picture of the distance field (matplotlib); "
-                                   "a name ending in .png")
-    add_solver_options(p)
-    add_common_options(p)
-
-
 @command(
     "distance",
-    arguments=_distance_arguments,
+    arguments=distance_arguments,
     help="geodesic distance from source vertices on a mesh file",
     description="Geodesic distance from source vertices to every vertex of a triangle (or polygon) "
     "mesh, by the heat method. Sources: --source and --sources-file; without them, the vertices "
@@ -293,17 +195,9 @@ def run_distance(args):
 # --------------------------------------------------------------------------- demo
 
 
-def _demo_arguments(p):
-    p.add_argument("-d", "--output-dir", default=".", metavar="DIR",
-                   help="folder for demo.ply and demo.png, created if missing (default: current folder)")
-    add_output_options(p)
-    add_solver_options(p)
-    add_common_options(p)
-
-
 @command(
     "demo",
-    arguments=_demo_arguments,
+    arguments=demo_arguments,
     help="distance from spot's nose on the bundled mesh: writes demo.ply and demo.png",
     description="Run the heat method on the bundled spot mesh (Keenan Crane, public domain) from a "
     f"vertex at the tip of the nose (vertex {DEMO_SOURCE}), and write demo.ply (distance as vertex "
@@ -339,16 +233,9 @@ def run_demo(args):
     return 0
 
 
-def _meshlab_arguments(p):
-    from . import meshlab
-
-    meshlab.add_arguments(p)
-    add_common_options(p)
-
-
 @command(
     "meshlab",
-    arguments=_meshlab_arguments,
+    arguments=meshlab_arguments,
     help="MeshLab front end: distance from a mesh's selection, written as PLY quality and colors",
     description="Reads a mesh in any format pymeshlab reads, takes the sources from its saved "
     "selection (PLY vertex flags), --sources or --select, and writes a PLY with the distance as "
@@ -364,44 +251,9 @@ def run_meshlab(args):
 # --------------------------------------------------------------------------- batch
 
 
-def _batch_arguments(p):
-    p.add_argument("inputs", nargs="+", metavar="INPUT",
-                   help="folders (their mesh files), glob patterns (quote them) or mesh files")
-    p.add_argument("-o", "--output-dir", type=Path, required=True, metavar="DIR",
-                   help="folder for one NAME.npz per mesh and summary.csv (created if missing); a rerun "
-                        "skips a mesh whose NAME.npz was computed from the same file bytes, sources and "
-                        "options (so it resumes), and recomputes one made from other inputs")
-    src = p.add_argument_group("sources (give one)")
-    src.add_argument("--sources", metavar="SPEC",
-                     help="'0,17' (vertex indices: one row per source), 'all' (the full distance "
-                          "matrix, in blocks) or 'farthest:K' (K farthest-point samples by heat distance, "
-                          "starting at vertex 0)")
-    src.add_argument("--sources-file-suffix", metavar="SUFFIX",
-                     help="per-mesh sources files: with '.sources.txt', bunny.obj reads bunny.sources.txt "
-                          "next to it (indices separated by whitespace or commas, '#' comments)")
-    src.add_argument("--union", action="store_true",
-                     help="one row per mesh: the distance to the union of the sources")
-    run = p.add_argument_group("execution")
-    run.add_argument("--scheduler", metavar="ADDRESS",
-                     help="run on this dask.distributed scheduler (e.g. tcp://10.0.0.5:8786), one task per "
-                          "mesh; the files must be on a file system the workers share (needs heatcore[batch])")
-    run.add_argument("-j", "--workers", type=_non_negative_int, default=None, metavar="N",
-                     help="local processes (default: all cores; 0: in this process)")
-    run.add_argument("--max-memory", type=_positive_float, default=1024.0, metavar="MB",
-                     help="distance rows a task holds at once, in MB; larger results are written as "
-                          "per-block .npy files in NAME.blocks/ (default: %(default)s)")
-    run.add_argument("--resume-only", action="store_true",
-                     help="only resume an earlier run: stop with an error, before any work, if a result in "
-                          "the output folder was computed from another mesh file, other sources or options")
-    p.add_argument("--domain", choices=("auto", "triangle", "polygon", "tet", "points"), default="auto",
-                   help="how to read the files (see 'heatcore distance --help') (default: %(default)s)")
-    add_solver_options(p)
-    add_common_options(p)
-
-
 @command(
     "batch",
-    arguments=_batch_arguments,
+    arguments=batch_arguments,
     help="distances for many mesh files (local processes or a Dask cluster): .npz per mesh + summary.csv",
     description="Geodesic distance for every mesh file of folders or glob patterns: each mesh is read and "
     "factored once, then all its sources are solved against it. Results: OUTPUT_DIR/NAME.npz "
@@ -414,9 +266,7 @@ def run_batch_command(args):
     from .batch import SUMMARY_NAME, parse_sources, run_batch
 
     spec = parse_sources(args.sources, suffix=args.sources_file_suffix, union=args.union)
-    kw = {"mesh": {}, "solver": {}}
-    for _, target, kwargs in SOLVER_OPTIONS:
-        kw[target][kwargs["dest"]] = getattr(args, kwargs["dest"])
+    kw = solver_keywords(args)
     rows = run_batch(args.inputs, args.output_dir, spec, scheduler=args.scheduler, workers=args.workers,
                      max_memory_mb=args.max_memory, kind=args.domain, mesh_options=kw["mesh"],
                      solver_options=kw["solver"], progress=not args.quiet, resume_only=args.resume_only)
@@ -430,13 +280,6 @@ def run_batch_command(args):
 
 
 # --------------------------------------------------------------------------- main
-
-
-class _Parser(argparse.ArgumentParser):
-    """Usage errors as one line (``heatcore distance: error: ...``), exit status 2."""
-
-    def error(self, message):
-        self.exit(2, f"{self.prog}: error: {short(message, 400)} (see '{self.prog} --help')\n")
 
 
 def build_parser():

@@ -1,7 +1,8 @@
 """Command-line inputs: option values, sources and mesh files, checked before any work.
 
 Option types raise :class:`argparse.ArgumentTypeError` (a one-line usage
-error, exit status 2); sources files and meshes raise
+error, exit status 2; the solver and colour options' types come from
+:meth:`heatcore.options.Option.parse`); sources files and meshes raise
 :class:`~heatcore.apps.outputs.CliError` or :class:`~heatcore.errors.InvalidMeshError`
 (exit status 1). Sources given on the command line are read before the mesh,
 so that a bad one costs nothing.
@@ -23,7 +24,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import InvalidSourceError
 from ..io.mesh import short
+from ..options import check_source_vertices
 from .outputs import CliError
 
 #: Largest vertex index a source may have (indices are int64).
@@ -42,25 +45,6 @@ def _positive_float(text):
     value = _parse(text, float, "a number")
     if not (np.isfinite(value) and value > 0):
         raise argparse.ArgumentTypeError(f"must be a positive number, got {text!r}")
-    return value
-
-
-def _non_negative_float(text):
-    value = _parse(text, float, "a number")
-    if not (np.isfinite(value) and value >= 0):
-        raise argparse.ArgumentTypeError(f"must be a number >= 0, got {text!r}")
-    return value
-
-
-def _refine_levels(text):
-    if text == "auto":
-        return "auto"
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be 'auto' or an integer 0..8, got {text!r}") from None
-    if not 0 <= value <= 8:
-        raise argparse.ArgumentTypeError(f"must be 'auto' or an integer 0..8, got {text!r}")
     return value
 
 
@@ -121,12 +105,14 @@ def read_mesh_file(path, kind="auto"):
 
 
 def check_sources(sources, n_vertices):
-    """Fail before the precomputation when a source index cannot be a vertex."""
-    bad = sources[(sources < 0) | (sources >= n_vertices)]
-    if bad.size:
-        raise CliError(
-            f"source vertex {bad[0]} is out of range: the mesh has {n_vertices} vertices (0..{n_vertices - 1})"
-        )
+    """Fail before the precomputation when a source index cannot be a vertex (exit status 1).
+
+    The range check is :func:`heatcore.options.check_source_vertices`, shared by the front ends.
+    """
+    try:
+        check_source_vertices(sources, n_vertices)
+    except InvalidSourceError as exc:
+        raise CliError(str(exc)) from None
 
 
 def command_line_sources(args):

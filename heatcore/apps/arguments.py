@@ -1,0 +1,135 @@
+"""The ``heatcore`` command's arguments: option groups generated from :mod:`heatcore.options`.
+
+Solver options are the :mod:`heatcore.options` entries named in
+:data:`SOLVER_OPTIONS`; each goes to the domain or to the solver by its
+declared ``target`` (:func:`solver_keywords`). Their flags, types, ranges,
+defaults and help texts all come from that table; a new solver option is one
+more declaration there and one more name here.
+
+Examples
+--------
+>>> p = _Parser(prog="demo")
+>>> add_solver_options(p)
+>>> solver_keywords(p.parse_args(["--m", "2", "--no-weld"]))
+{'mesh': {'robust': True, 'refine': 'auto', 'weld': None}, 'solver': {'m': 2.0, 'boundary': 'robin', 'accuracy': 'smooth'}}
+"""
+
+import argparse
+from pathlib import Path
+
+from .. import options
+from ..io.mesh import short
+from .inputs import _non_negative_int, _positive_float, _vertex_index
+
+#: Options of :mod:`heatcore.options` on the command line of ``distance``, ``demo`` and ``batch``.
+SOLVER_OPTIONS = ("m", "boundary", "accuracy", "robust", "refine", "weld")
+
+
+class _Parser(argparse.ArgumentParser):
+    """Usage errors as one line (``heatcore distance: error: ...``), exit status 2."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {short(message, 400)} (see '{self.prog} --help')\n")
+
+
+def add_solver_options(parser):
+    """``--m``, ``--boundary``, ``--accuracy``, ``--no-robust``, ``--refine``, ``--weld-tolerance | --no-weld``."""
+    group = parser.add_argument_group("solver options")
+    for name in SOLVER_OPTIONS:
+        options.add_argument(group, name)
+
+
+def solver_keywords(args):
+    """``{"mesh": {...}, "solver": {...}}``: the parsed solver options by where they go."""
+    kw = {"mesh": {}, "solver": {}}
+    for name in SOLVER_OPTIONS:
+        kw[options.OPTIONS[name].target][name] = getattr(args, name)
+    return kw
+
+
+def add_output_options(parser, png_help=None):
+    """--colormap, --isolines and (given ``png_help``) --png."""
+    group = parser.add_argument_group("picture and colors")
+    options.add_argument(group, "colormap")
+    options.add_argument(group, "isolines")
+    if png_help:
+        group.add_argument("--png", type=Path, default=None, metavar="PATH", help=png_help)
+
+
+def add_common_options(parser):
+    parser.add_argument("-q", "--quiet", action="store_true", help="no progress or timing lines on stderr")
+
+
+def distance_arguments(p):
+    p.add_argument("mesh", type=Path, metavar="MESH",
+                   help="mesh file: PLY (keeps MeshLab's vertex selection), OBJ, OFF, STL, glTF, ...; "
+                        "tetrahedral meshes (.msh, .vtu, .vtk, .mesh, .node/.ele); point clouds "
+                        "(.xyz, or PLY/OBJ without faces)")
+    options.add_argument(p, "domain")
+    src = p.add_argument_group("sources (combined; default: the PLY's selected vertices)")
+    src.add_argument("-s", "--source", type=_vertex_index, action="append", metavar="INDEX",
+                     help="source vertex index (0-based); repeat for several sources")
+    src.add_argument("--sources-file", type=Path, action="append", metavar="FILE",
+                     help="text file of 0-based vertex indices separated by whitespace or commas "
+                          "('#' starts a comment); may be repeated")
+    p.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
+                   help="output file, format by extension: .ply (quality + colors), .npy, .csv "
+                        "(index,distance), or for tetrahedral meshes .vtu/.vtk/.msh (point-data field "
+                        "'distance'); repeat for several. Outputs are written whole or not at all "
+                        "(a temporary file, then renamed)")
+    p.add_argument("--overwrite", action="store_true",
+                   help="allow an output to replace an input file (the mesh or a sources file); "
+                        "the input's other vertex properties are not kept")
+    add_output_options(p, png_help="also write a PNG picture of the distance field (matplotlib); "
+                                   "a name ending in .png")
+    add_solver_options(p)
+    add_common_options(p)
+
+
+def demo_arguments(p):
+    p.add_argument("-d", "--output-dir", default=".", metavar="DIR",
+                   help="folder for demo.ply and demo.png, created if missing (default: current folder)")
+    add_output_options(p)
+    add_solver_options(p)
+    add_common_options(p)
+
+
+def meshlab_arguments(p):
+    from . import meshlab
+
+    meshlab.add_arguments(p)
+    add_common_options(p)
+
+
+def batch_arguments(p):
+    p.add_argument("inputs", nargs="+", metavar="INPUT",
+                   help="folders (their mesh files), glob patterns (quote them) or mesh files")
+    p.add_argument("-o", "--output-dir", type=Path, required=True, metavar="DIR",
+                   help="folder for one NAME.npz per mesh and summary.csv (created if missing); a rerun "
+                        "skips a mesh whose NAME.npz was computed from the same file bytes, sources and "
+                        "options (so it resumes), and recomputes one made from other inputs")
+    src = p.add_argument_group("sources (give one)")
+    src.add_argument("--sources", metavar="SPEC",
+                     help="'0,17' (vertex indices: one row per source), 'all' (the full distance "
+                          "matrix, in blocks) or 'farthest:K' (K farthest-point samples by heat distance, "
+                          "starting at vertex 0)")
+    src.add_argument("--sources-file-suffix", metavar="SUFFIX",
+                     help="per-mesh sources files: with '.sources.txt', bunny.obj reads bunny.sources.txt "
+                          "next to it (indices separated by whitespace or commas, '#' comments)")
+    src.add_argument("--union", action="store_true",
+                     help="one row per mesh: the distance to the union of the sources")
+    run = p.add_argument_group("execution")
+    run.add_argument("--scheduler", metavar="ADDRESS",
+                     help="run on this dask.distributed scheduler (e.g. tcp://10.0.0.5:8786), one task per "
+                          "mesh; the files must be on a file system the workers share (needs heatcore[batch])")
+    run.add_argument("-j", "--workers", type=_non_negative_int, default=None, metavar="N",
+                     help="local processes (default: all cores; 0: in this process)")
+    run.add_argument("--max-memory", type=_positive_float, default=1024.0, metavar="MB",
+                     help="distance rows a task holds at once, in MB; larger results are written as "
+                          "per-block .npy files in NAME.blocks/ (default: %(default)s)")
+    run.add_argument("--resume-only", action="store_true",
+                     help="only resume an earlier run: stop with an error, before any work, if a result in "
+                          "the output folder was computed from another mesh file, other sources or options")
+    options.add_argument(p, "domain")
+    add_solver_options(p)
+    add_common_options(p)

@@ -1,0 +1,433 @@
+"""Every user-facing option of heatcore, declared once.
+
+An :class:`Option` states an option's name (the keyword of the Python API,
+the Blender property, the command line's ``dest``), its type, its range or
+choices, its default, its unit, one help text, and where it goes:
+
+- ``"mesh"``: a keyword of the domain (:class:`~heatcore.TriangleMesh`,
+  ``DomainFile.domain``);
+- ``"solver"``: a keyword of :class:`~heatcore.HeatSolver`;
+- ``"read"``: how a file is read (:func:`heatcore.io.domain.read_domain`);
+- ``"output"``: how the distance is coloured.
+
+The front ends are generated from this table or checked by it: the
+``heatcore`` command's and the MeshLab command's argparse options
+(:func:`add_argument`), the Blender properties, the MeshLab filter's
+parameters and :func:`heatcore.geodesic_distance` (:func:`check`).
+``tests/test_options.py`` holds every front end to it. Every bad value gets
+one message format, ``<unknown|invalid> <label> <value>: <name> must be
+<requirement>``, in an :class:`~heatcore.errors.InvalidOptionError`.
+
+Examples
+--------
+>>> check("m", 2)
+2.0
+>>> check("refine", "auto"), check("refine", 3), check("weld", None)
+('auto', 3, None)
+>>> check("m", -1.0)
+Traceback (most recent call last):
+...
+heatcore.errors.InvalidOptionError: invalid time factor -1.0: m must be a positive number
+>>> OPTIONS["weld"].unit
+'mesh units (a length)'
+"""
+
+import argparse
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import InvalidOptionError, InvalidSourceError
+
+#: Names of heatcore's colormaps (:data:`heatcore.viz.colormap.COLORMAPS`, sorted; a test keeps them equal).
+COLORMAP_NAMES = ("cividis", "inferno", "magma", "plasma", "viridis")
+
+_NUMBER = (int, float, np.integer, np.floating)
+_BOOL = (bool, np.bool_)
+
+
+@dataclass(frozen=True)
+class Option:
+    """The declaration of one user-facing option.
+
+    Parameters
+    ----------
+    name : str
+        Keyword in the API, Blender property name, argparse ``dest``.
+    label : str
+        A few words naming it in messages ("time factor").
+    type : {float, int, bool, str}
+        Type of the value (``str``: one of ``choices``).
+    default
+        Default value everywhere, unless ``front_end_defaults`` says otherwise.
+    unit : str
+        Unit of the value ("unitless", "mesh units (a length)", ...).
+    help : str
+        The one help text: argparse help, Blender description, docstrings.
+    target : {"mesh", "solver", "read", "output"}
+        Where the value goes (see the module docstring).
+    choices : tuple of str
+        Allowed values of a ``str`` option, in display order.
+    choice_help : tuple of str
+        One line per choice (Blender's enum items).
+    low, high : float, optional
+        Bounds of a number; ``low_open``: ``low`` itself is excluded.
+    specials : tuple of str
+        Words a number option accepts too (``"auto"``).
+    none_means : str, optional
+        Whether ``None`` is accepted, and what it means ("no welding").
+    flag, metavar, off_flag, off_help : str, optional
+        Command-line flag (None: not on the command line); for a boolean
+        whose default is True, or an option that may be None, the flag that
+        turns it off (``--no-robust``, ``--no-weld``) and that flag's help.
+    ui_label : str, optional
+        Friendlier label in graphical front ends (default: ``label`` titled).
+    ui_min, soft_max : float, optional
+        Smallest value a slider offers where ``low`` is open, and the upper
+        end of the slider range.
+    front_end_defaults : tuple of (front_end, value, text)
+        Front ends whose default differs from ``default``, with the text
+        their help shows.
+
+    Examples
+    --------
+    >>> opt = OPTIONS["refine"]
+    >>> opt.requirement(), opt.target, opt.default
+    ("'auto' or an integer 0..8", 'mesh', 'auto')
+    """
+
+    name: str
+    label: str
+    type: type
+    default: object
+    unit: str
+    help: str
+    target: str
+    choices: tuple = ()
+    choice_help: tuple = ()
+    low: float = None
+    high: float = None
+    low_open: bool = False
+    specials: tuple = ()
+    none_means: str = None
+    flag: str = None
+    metavar: str = None
+    off_flag: str = None
+    off_help: str = None
+    ui_label: str = None
+    ui_min: float = None
+    soft_max: float = None
+    front_end_defaults: tuple = ()
+
+    def requirement(self, with_none=True):
+        """What a value must be, in words.
+
+        Examples
+        --------
+        >>> OPTIONS["weld"].requirement(), OPTIONS["weld"].requirement(with_none=False)
+        ('a number >= 0 or None (no welding)', 'a number >= 0')
+        """
+        if self.choices:
+            text = "one of " + ", ".join(self.choices)
+        elif self.type is bool:
+            text = "True or False"
+        else:
+            what = "an integer" if self.type is int else "a number"
+            if self.type is float and self.low == 0 and self.low_open and self.high is None:
+                text = "a positive number"
+            elif self.type is int and self.low is not None and self.high is not None:
+                text = f"{what} {self.low}..{self.high}"
+            elif self.high is None:
+                text = f"{what} {'>' if self.low_open else '>='} {self.low}"
+            else:
+                text = f"{what} in {'(' if self.low_open else '['}{self.low}, {self.high}]"
+        text = "".join(f"{word!r} or " for word in self.specials) + text
+        return text + (f" or None ({self.none_means})" if with_none and self.none_means else "")
+
+    def error(self, value, extra=()):
+        """The :class:`~heatcore.errors.InvalidOptionError` for a bad ``value`` (one format for all)."""
+        adjective = "unknown" if self.choices else "invalid"
+        requirement = "one of " + ", ".join(self.choices + tuple(extra)) if extra else self.requirement()
+        return InvalidOptionError(f"{adjective} {self.label} {value!r}: {self.name} must be {requirement}")
+
+    def check(self, value, extra=()):
+        """The value, normalized (float, int, bool, str or None); :meth:`error` when it is not allowed.
+
+        ``extra``: further choices a front end accepts (MeshLab's colour ramps).
+
+        Examples
+        --------
+        >>> OPTIONS["isolines"].check(np.int64(4)), OPTIONS["robust"].check(np.True_)
+        (4, True)
+        """
+        if value is None and self.none_means:
+            return None
+        if isinstance(value, str) and value in self.specials:
+            return value
+        if self.choices:
+            if isinstance(value, str) and (value in self.choices or value in extra):
+                return str(value)
+        elif self.type is bool:
+            if isinstance(value, _BOOL) or (isinstance(value, (int, np.integer)) and value in (0, 1)):
+                return bool(value)
+        elif self.type is int:
+            if isinstance(value, (int, np.integer)) and not isinstance(value, _BOOL) and self._in_range(value):
+                return int(value)
+        elif isinstance(value, _NUMBER) and not isinstance(value, _BOOL) and np.isfinite(value) and self._in_range(value):
+            return float(value)
+        raise self.error(value, extra)
+
+    def _in_range(self, value):
+        low_ok = self.low is None or (value > self.low if self.low_open else value >= self.low)
+        return low_ok and (self.high is None or value <= self.high)
+
+    def default_for(self, front_end):
+        """The default in ``front_end`` ("cli", "meshlab", "blender", ...).
+
+        Examples
+        --------
+        >>> OPTIONS["isolines"].default_for("blender"), OPTIONS["isolines"].default_for("meshlab")
+        (10, 0)
+        """
+        return next((value for end, value, _ in self.front_end_defaults if end == front_end), self.default)
+
+    def parse(self, text):
+        """Command-line text to a checked value; :class:`argparse.ArgumentTypeError` when it is bad.
+
+        Examples
+        --------
+        >>> OPTIONS["m"].parse("0.5")
+        0.5
+        >>> OPTIONS["weld"].parse("-1")
+        Traceback (most recent call last):
+        ...
+        argparse.ArgumentTypeError: must be a number >= 0, got '-1'
+        """
+        if text in self.specials:
+            return text
+        kind, what = (int, "an integer") if self.type is int else (float, "a number")
+        try:
+            value = kind(text)
+        except ValueError:
+            if self.specials:
+                raise argparse.ArgumentTypeError(f"must be {self.requirement(False)}, got {text!r}") from None
+            raise argparse.ArgumentTypeError(f"not {what}: {text!r}") from None
+        try:
+            return self.check(value)
+        except InvalidOptionError:
+            raise argparse.ArgumentTypeError(f"must be {self.requirement(False)}, got {text!r}") from None
+
+    def help_text(self, front_end="cli"):
+        """Help with the front end's default appended (argparse: ``%`` escaped by the caller)."""
+        shown = next((text for end, _, text in self.front_end_defaults if end == front_end), None)
+        if shown is None:
+            shown = {True: "on", False: "off"}.get(self.default, self.default) if self.type is bool else self.default
+        return f"{self.help} (default: {shown})"
+
+
+_OPTIONS = (
+    Option(
+        "m", "time factor", float, 1.0, "unitless (t = m h^2, h in mesh units)",
+        "heat time factor: t = m * h^2, h the mean edge length; larger m gives a smoother distance",
+        "solver", low=0, low_open=True, flag="--m", metavar="M", ui_label="Time Factor", ui_min=1e-3,
+        soft_max=1000.0,
+    ),
+    Option(
+        "boundary", "boundary condition", str, "robin", "none (a choice)",
+        "boundary condition of the heat step on meshes with boundary: robin (mean of neumann and "
+        "dirichlet, the paper's advice), neumann or dirichlet",
+        "solver", choices=("robin", "neumann", "dirichlet"),
+        choice_help=("Mean of the Neumann and Dirichlet heat solutions (recommended)",
+                     "Zero-flux boundary: distance bends less near holes", "Zero heat on the boundary"),
+        flag="--boundary", ui_label="Boundary",
+    ),
+    Option(
+        "accuracy", "accuracy", str, "smooth", "none (a choice)",
+        "smooth: the heat method (its error is 1-2%); high: heat method followed by an ordered eikonal "
+        "pass (about 0.1-0.3% error, a few times slower per query)",
+        "solver", choices=("smooth", "high"),
+        choice_help=("The heat method: smooth distance, about 1-2% error",
+                     "Heat method plus an ordered eikonal pass: about 0.1-0.3% error, slower"),
+        flag="--accuracy",
+    ),
+    Option(
+        "backend", "linear-algebra backend", str, "auto", "none (a choice)",
+        "sparse factorization backend: auto picks by size (see heatcore.linalg)",
+        "solver", choices=("auto", "supernodal", "qdldl", "cholmod", "superlu"),
+    ),
+    Option(
+        "robust", "robust setting", bool, True, "none (on or off)",
+        "intrinsic Delaunay operators (accurate on badly shaped triangles); off: plain cotan operators "
+        "on the input triangles (faster to build, much less accurate on poor meshes)",
+        "mesh", off_flag="--no-robust", ui_label="Robust",
+    ),
+    Option(
+        "refine", "refinement", int, "auto", "subdivision levels (each splits every triangle in 4)",
+        "midpoint subdivision levels before solving: 'auto' (refine parts under 11,000 vertices) or "
+        "0..8; results are read back at the input vertices",
+        "mesh", low=0, high=8, specials=("auto",), flag="--refine", metavar="LEVELS", ui_label="Refine",
+    ),
+    Option(
+        "weld", "weld tolerance", float, 0.0, "mesh units (a length)",
+        "merge vertices closer than this tolerance (mesh units) into one before solving, as STL files "
+        "and OBJ seams need; 0 merges vertices at exactly the same position; distances are still "
+        "given for every input vertex",
+        "mesh", low=0, none_means="no welding", flag="--weld-tolerance", metavar="TOL",
+        off_flag="--no-weld", off_help="no welding: solve on the vertices as they are (coincident vertices stay apart)",
+        ui_label="Weld",
+    ),
+    Option(
+        "domain", "domain kind", str, "auto", "none (a choice)",
+        "how to read a file: auto (tets from volume formats, points from files without faces, "
+        "triangles otherwise), or force one; 'polygon' keeps quads and n-gons (virtual refinement) "
+        "instead of triangulating them",
+        "read", choices=("auto", "triangle", "polygon", "tet", "points"), flag="--domain",
+    ),
+    Option(
+        "colormap", "colormap", str, "viridis", "none (a choice)",
+        "perceptual colormap of the vertex colors (and of a PNG picture)",
+        "output", choices=COLORMAP_NAMES, choice_help=tuple(f"Perceptual colormap {c}" for c in COLORMAP_NAMES),
+        flag="--colormap",
+    ),
+    Option(
+        "isolines", "isoline count", int, 0, "count (evenly spaced in distance)",
+        "number of evenly spaced isolines: dark stripes in the vertex colors (and lines in a PNG "
+        "picture); 0: none",
+        "output", low=0, flag="--isolines", metavar="N", ui_label="Isolines", soft_max=50,
+        front_end_defaults=(("cli", None, "none in the PLY, 12 in the PNG"), ("blender", 10, "10")),
+    ),
+)
+
+#: Every option by name.
+OPTIONS = {opt.name: opt for opt in _OPTIONS}
+
+
+def check(name, value, extra=()):
+    """Validate and normalize the value of option ``name``.
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`OPTIONS`.
+    value
+        The value given.
+    extra : tuple of str, optional
+        Further choices the calling front end accepts (MeshLab's colour ramps).
+
+    Returns
+    -------
+    The value as float, int, bool, str or None.
+
+    Raises
+    ------
+    InvalidOptionError
+        Unknown option, or a value outside its type, range or choices.
+
+    Examples
+    --------
+    >>> check("boundary", "neumann"), check("isolines", 0), check("robust", False)
+    ('neumann', 0, False)
+    >>> check("boundary", "periodic")
+    Traceback (most recent call last):
+    ...
+    heatcore.errors.InvalidOptionError: unknown boundary condition 'periodic': boundary must be one of robin, neumann, dirichlet
+    """
+    if name not in OPTIONS:
+        raise InvalidOptionError(f"unknown option {name!r}; options are {', '.join(OPTIONS)}")
+    return OPTIONS[name].check(value, extra)
+
+
+def check_all(values):
+    """:func:`check` every declared option of a ``{name: value}`` dict; others pass unchanged.
+
+    Examples
+    --------
+    >>> check_all({"m": 1, "refine": 0, "other": "x"})
+    {'m': 1.0, 'refine': 0, 'other': 'x'}
+    """
+    return {k: check(k, v) if k in OPTIONS else v for k, v in values.items()}
+
+
+def names(target):
+    """Names of the options that go to ``target``, in declaration order.
+
+    Examples
+    --------
+    >>> names("mesh")
+    ('robust', 'refine', 'weld')
+    """
+    return tuple(opt.name for opt in _OPTIONS if opt.target == target)
+
+
+def defaults(target):
+    """``{name: default}`` of the options that go to ``target``.
+
+    Examples
+    --------
+    >>> defaults("solver")
+    {'m': 1.0, 'boundary': 'robin', 'accuracy': 'smooth', 'backend': 'auto'}
+    """
+    return {opt.name: opt.default for opt in _OPTIONS if opt.target == target}
+
+
+def add_argument(parser, name, *, front_end="cli", extra=(), note=""):
+    """Add option ``name``'s flags to an argparse parser or group.
+
+    The help is the option's help plus the front end's default; ``extra``
+    choices and a ``note`` may widen it (MeshLab's colour ramps). An option
+    that may be None gets its two flags in a mutually exclusive group.
+
+    Examples
+    --------
+    >>> p = argparse.ArgumentParser()
+    >>> add_argument(p, "weld"); add_argument(p, "robust")
+    >>> p.parse_args(["--no-weld", "--no-robust"])
+    Namespace(weld=None, robust=False)
+    >>> p.parse_args(["--weld-tolerance", "0.5"]).weld
+    0.5
+    """
+    opt = OPTIONS[name]
+    help = (opt.help_text(front_end) if not note else f"{opt.help}; {note} (default: {opt.default_for(front_end)})")
+    help = help.replace("%", "%%")
+    default = opt.default_for(front_end)
+    if opt.off_flag and opt.none_means:  # --weld-tolerance TOL | --no-weld
+        parser = parser.add_mutually_exclusive_group()
+    if opt.flag:
+        kwargs = {"dest": name, "default": default, "help": help}
+        if opt.choices:
+            kwargs["choices"] = opt.choices + tuple(extra)
+        else:
+            kwargs.update(type=opt.parse, metavar=opt.metavar)
+        parser.add_argument(opt.flag, **kwargs)
+    if opt.off_flag:
+        off = {"action": "store_const", "const": None, "default": default} if opt.none_means else {"action": "store_false"}
+        off_help = opt.off_help if opt.flag else f"turn {name} off; {name}: {help}"
+        parser.add_argument(opt.off_flag, dest=name, help=off_help, **off)
+
+
+def check_source_vertices(sources, n_vertices):
+    """Source vertex indices as an int64 array, or one error when one is not a vertex.
+
+    The one source-range check of the front ends (CLI, MeshLab, Blender, batch).
+
+    Raises
+    ------
+    InvalidSourceError
+        An index below 0 or at least ``n_vertices``.
+
+    Examples
+    --------
+    >>> check_source_vertices([0, 5], 10).tolist()
+    [0, 5]
+    >>> check_source_vertices([3, 10], 10)
+    Traceback (most recent call last):
+    ...
+    heatcore.errors.InvalidSourceError: source vertex 10 is out of range: the mesh has 10 vertices (0..9)
+    """
+    sources = np.asarray(sources, dtype=np.int64).ravel()
+    bad = sources[(sources < 0) | (sources >= n_vertices)]
+    if bad.size:
+        raise InvalidSourceError(
+            f"source vertex {bad[0]} is out of range: the mesh has {n_vertices} vertices (0..{n_vertices - 1})"
+        )
+    return sources
