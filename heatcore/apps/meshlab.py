@@ -9,10 +9,12 @@ MeshLab users run on files they export from MeshLab and open again there:
     python scripts/heatcore_meshlab.py scan.obj --sources 0 17 -o out.ply
     python scripts/heatcore_meshlab.py scan.obj --select "(y > 0.9)" -o out.ply
 
-The filter reads the selection as sources, writes the distance as vertex
-quality (what MeshLab's colour and selection tools use) and as a custom vertex
-scalar attribute, colours the vertices, and returns statistics. No numerics
-live here: the distance comes from :class:`heatcore.HeatSolver`.
+The filter (:mod:`heatcore.apps.meshlab_filter`, re-exported here) reads the
+selection as sources, writes the distance as vertex quality (what MeshLab's
+colour and selection tools use) and as a custom vertex scalar attribute,
+colours the vertices, and returns statistics. No numerics live here: the
+distance comes from :class:`heatcore.HeatSolver`. The command's solver and
+colour options are generated from :mod:`heatcore.options`.
 
 pymeshlab is imported inside functions only (see DESIGN.md: ``bpy`` must be
 imported before pymeshlab in a process).
@@ -32,340 +34,27 @@ In a PyMeshLab script (not run as a doctest: it needs pymeshlab and a mesh file)
 import argparse
 import json
 import os
-import re
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
 
-from ..domains.triangle import TriangleMesh
-from ..errors import (
-    HeatcoreError,
-    InvalidMeshError,
-    InvalidOptionError,
-    InvalidSourceError,
+from .. import options
+from ..errors import HeatcoreError, InvalidMeshError, InvalidOptionError, InvalidSourceError
+from .meshlab_filter import (  # noqa: F401 - re-exported: the filter's public names
+    COLORMAP_CHOICES,
+    DEFAULT_ATTRIBUTE,
+    DEFAULT_UNREACHABLE,
+    EXTRA_COLORMAPS,
+    MESHLAB_COLORMAPS,
+    _current_mesh,
+    _write_vertex_attribute,
+    geodesic_distance_from_selection,
 )
-from ..heat import HeatSolver
-from ..viz import colormap as _colormap
 
-#: Name of the custom per-vertex scalar attribute that receives the distance.
-DEFAULT_ATTRIBUTE = "heat_distance"
-
-#: Quality given to vertices that no source reaches. Distances are >= 0, so
-#: MeshLab's ``compute_selection_by_condition_per_vertex(condselect="q < 0")``
-#: selects exactly these vertices; MeshLab's tools cannot handle ``inf``.
-DEFAULT_UNREACHABLE = -1.0
-
-#: MeshLab's own colour ramps (``compute_color_from_scalar_per_vertex``), by our name.
-MESHLAB_COLORMAPS = {
-    "meshlab-rgb": "RGB",
-    "meshlab-viridis": "Viridis",
-    "meshlab-plasma": "Plasma",
-    "meshlab-cividis": "Cividis",
-    "meshlab-turbo": "Turbo",
-    "meshlab-rdpu": "RdPu",
-}
-
-#: Every accepted ``colormap``: heatcore's tables, MeshLab's ramps, or "none" (colours untouched).
-COLORMAP_CHOICES = tuple(sorted(_colormap.COLORMAPS)) + tuple(MESHLAB_COLORMAPS) + ("none",)
-
-# Names MeshLab's expression parser defines per vertex; an attribute may not shadow them.
-_RESERVED_NAMES = {
-    "x", "y", "z", "nx", "ny", "nz", "r", "g", "b", "a", "q", "vi", "rad", "vtu", "vtv", "ti",
-    "x0", "y0", "z0", "nx0", "ny0", "nz0", "r0", "g0", "b0", "a0", "q0", "vsel", "fsel",
-}  # fmt: skip
-_IDENTIFIER = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
-_COLOR_ATTRIBUTES = ("heatcore_red", "heatcore_green", "heatcore_blue")
-
-
-def geodesic_distance_from_selection(
-    ms,
-    *,
-    m=1.0,
-    boundary="robin",
-    robust=True,
-    refine="auto",
-    weld=0.0,
-    colormap="viridis",
-    isolines=0,
-    attribute=DEFAULT_ATTRIBUTE,
-    unreachable=DEFAULT_UNREACHABLE,
-    solver=None,
-    **solver_options,
-):
-    """Geodesic distance from the selection of a MeshSet's current mesh, MeshLab-filter style.
-
-    Sources are the selected vertices; where no vertex is selected, the
-    selected faces (the distance is then to their union). The distance is
-    written as vertex quality and as the custom vertex scalar attribute
-    ``attribute``, and the vertices are coloured. The selection is left as it
-    is. On any error the mesh is left unchanged.
-
-    Parameters
-    ----------
-    ms : pymeshlab.MeshSet
-        Its current mesh is the input; triangles are used as pymeshlab stores
-        them (polygons are triangulated).
-    m : float, default 1.0
-        Heat time factor, ``t = m h^2``; larger gives a smoother distance.
-    boundary : {"robin", "neumann", "dirichlet"}, default "robin"
-        Boundary condition of the heat step on meshes with holes.
-    robust : bool, default True
-        Intrinsic Delaunay operators (accurate on badly shaped triangles);
-        ``False`` gives plain cotan, as MeshLab's own heat filter uses.
-    refine : "auto" or int, default "auto"
-        Midpoint subdivision levels before solving (see :class:`heatcore.TriangleMesh`).
-    weld : float or None, default 0.0
-        Merge vertices closer than this (0: at the same position; None:
-        never), see :class:`heatcore.TriangleMesh`.
-    colormap : str, default "viridis"
-        One of heatcore's colormaps (``viridis``, ``magma``, ``inferno``,
-        ``plasma``, ``cividis``), one of MeshLab's ramps (``meshlab-rgb``,
-        ``meshlab-viridis``, ``meshlab-plasma``, ``meshlab-cividis``,
-        ``meshlab-turbo``, ``meshlab-rdpu``), or ``"none"`` to leave colours alone.
-    isolines : int, default 0
-        Dark isoline stripes (heatcore colormaps only).
-    attribute : str, default "heat_distance"
-        Custom vertex scalar attribute that receives the distance; usable by
-        name in MeshLab expressions (``condselect="heat_distance < 0.1"``).
-    unreachable : float, default -1.0
-        Quality and attribute value of vertices no source reaches (another
-        connected component, unreferenced vertices). MeshLab's tools do not
-        handle ``inf``; the statistics count these vertices.
-    solver : HeatSolver, optional
-        A solver from an earlier call's statistics (``stats["solver"]``) on
-        the same mesh: skips the precomputation.
-    **solver_options
-        Further keyword arguments of :class:`heatcore.HeatSolver`, passed
-        through unchanged (for example ``accuracy="high"``).
-
-    Returns
-    -------
-    dict
-        ``sources`` (int), ``source_kind`` ("vertices" or "faces"),
-        ``vertices``, ``faces``, ``polygons`` (faces of more than 3 sides in
-        the input), ``reached``, ``unreachable`` (vertex counts), ``min``,
-        ``max``, ``mean`` (of the finite distances), ``attribute``,
-        ``colormap``, ``seconds`` (``setup``, ``distance``, ``write``,
-        ``total``), ``distance`` ((n,) array with ``inf`` where unreachable)
-        and ``solver`` (pass it back to skip the setup next time).
-
-    Raises
-    ------
-    InvalidSourceError
-        Nothing is selected.
-    InvalidOptionError
-        An option is out of range, or ``solver`` belongs to another mesh.
-    InvalidMeshError
-        The current mesh has no faces.
-    """
-    start = time.perf_counter()
-    _check_options(colormap, isolines, attribute, unreachable)
-    mesh = _current_mesh(ms)
-    V = np.asarray(mesh.vertex_matrix(), dtype=np.float64)
-    F = np.asarray(mesh.face_matrix(), dtype=np.int64)
-    if F.shape[0] == 0:
-        raise InvalidMeshError("the current mesh has no faces: the heat method needs a triangle or polygon mesh")
-    kind, sources = _selected_sources(mesh)
-
-    if solver is None:
-        domain = TriangleMesh(V, F, robust=robust, refine=refine, weld=weld)
-        solver = HeatSolver(domain, m=m, boundary=boundary, **solver_options)
-    else:
-        _check_solver(solver, V, F)
-    setup = time.perf_counter()
-    if kind == "vertices":
-        d = solver.distance(sources)
-    else:
-        d = solver.distance(faces=sources)
-    query = time.perf_counter()
-
-    finite = np.isfinite(d)
-    values = np.where(finite, d, float(unreachable))
-    _write_vertex_attribute(ms, mesh, attribute, values)
-    ms.compute_scalar_by_function_per_vertex(q=attribute)
-    vmax = float(d[finite].max()) if finite.any() else 0.0
-    _write_colors(ms, mesh, d, colormap, isolines, vmax)
-    done = time.perf_counter()
-
-    return {
-        "sources": len(sources),
-        "source_kind": kind,
-        "vertices": int(V.shape[0]),
-        "faces": int(F.shape[0]),
-        "polygons": _polygon_count(mesh),
-        "reached": int(finite.sum()),
-        "unreachable": int((~finite).sum()),
-        "min": float(d[finite].min()) if finite.any() else float("nan"),
-        "max": vmax if finite.any() else float("nan"),
-        "mean": float(d[finite].mean()) if finite.any() else float("nan"),
-        "attribute": attribute,
-        "colormap": colormap,
-        "seconds": {
-            "setup": setup - start,
-            "distance": query - setup,
-            "write": done - query,
-            "total": done - start,
-        },
-        "distance": d,
-        "solver": solver,
-    }
-
-
-def _check_options(colormap, isolines, attribute, unreachable):
-    if colormap not in COLORMAP_CHOICES:
-        raise InvalidOptionError(f"unknown colormap {colormap!r}; choose one of {', '.join(COLORMAP_CHOICES)}")
-    if not (isinstance(isolines, (int, np.integer)) and not isinstance(isolines, bool) and isolines >= 0):
-        raise InvalidOptionError(f"isolines must be a non-negative integer, got {isolines!r}")
-    if isolines and colormap not in _colormap.COLORMAPS:
-        raise InvalidOptionError(f"isolines need one of heatcore's colormaps {sorted(_colormap.COLORMAPS)}")
-    if not (isinstance(attribute, str) and _IDENTIFIER.match(attribute)) or attribute in _RESERVED_NAMES:
-        raise InvalidOptionError(
-            f"attribute name {attribute!r} must be an identifier (letters, digits, _) "
-            f"and not one of MeshLab's per-vertex variables {sorted(_RESERVED_NAMES)}"
-        )
-    if attribute in _COLOR_ATTRIBUTES:
-        raise InvalidOptionError(f"attribute name {attribute!r} is used for the colours; choose another")
-    if not (isinstance(unreachable, (int, float, np.integer, np.floating)) and np.isfinite(unreachable)):
-        raise InvalidOptionError(f"unreachable must be a finite number (MeshLab cannot use inf), got {unreachable!r}")
-
-
-def _current_mesh(ms):
-    try:
-        mesh = ms.current_mesh()
-    except Exception as exc:  # pymeshlab raises its own exception type for an empty MeshSet
-        raise InvalidMeshError(f"the MeshSet has no current mesh: load one first ({exc})") from exc
-    if not mesh.is_compact():  # deleted elements linger until compaction; arrays need a compact mesh
-        mesh.compact()
-    return mesh
-
-
-def _selected_sources(mesh):
-    """("vertices", indices) of the selected vertices, else ("faces", indices) of selected faces."""
-    vertices = np.flatnonzero(mesh.vertex_selection_array())
-    if vertices.size:
-        return "vertices", vertices
-    faces = np.flatnonzero(mesh.face_selection_array())
-    if faces.size:
-        return "faces", faces
-    raise InvalidSourceError(
-        "no source: the mesh has no selected vertices or faces. Select the source vertices "
-        "(in MeshLab, save as PLY with the 'Flags' box checked to keep the selection), "
-        "or pass sources explicitly (--sources indices, or --select a MeshLab condition)"
-    )
-
-
-def _check_solver(solver, V, F):
-    domain = getattr(solver, "domain", None)
-    same = (
-        domain is not None
-        and getattr(domain, "vertices", np.empty((0, 3))).shape == V.shape
-        and getattr(domain, "faces", np.empty((0, 3))).shape == F.shape
-        and np.array_equal(domain.vertices, V)
-        and np.array_equal(domain.faces, F)
-    )
-    if not same:
-        raise InvalidOptionError(
-            "the solver passed in was built for another mesh (vertices or faces differ): "
-            "call without solver= to build one for this mesh"
-        )
-
-
-def _polygon_count(mesh):
-    """Faces of more than three sides in the input (pymeshlab keeps them as faux-edge triangle fans).
-
-    Polygons are triangulated for now; once heatcore has a polygon domain,
-    polygon input goes through it instead.
-    """
-    try:
-        polys = mesh.polygonal_face_list()
-    except Exception:  # a build of pymeshlab without polygon support: count none
-        return 0
-    return int(sum(1 for p in polys if len(p) > 3))
-
-
-def _attribute_exists(mesh, name):
-    try:
-        mesh.vertex_custom_scalar_attribute_array(name)
-    except Exception:  # pymeshlab raises PyMeshLabException for a missing attribute
-        return False
-    return True
-
-
-def _write_vertex_attribute(ms, mesh, name, values):
-    """Set the custom vertex scalar attribute ``name`` to ``values`` (adding or overwriting it).
-
-    pymeshlab can add an attribute but neither remove nor overwrite one from
-    numpy; an existing one is overwritten through MeshLab's expression filter,
-    from a fresh scratch attribute (which stays: MeshLab cannot delete
-    attributes; custom attributes are not saved to files).
-    """
-    values = np.ascontiguousarray(values, dtype=np.float64)
-    if not _attribute_exists(mesh, name):
-        mesh.add_vertex_custom_scalar_attribute(values, name)
-        return
-    k = 1
-    while _attribute_exists(mesh, f"{name}_scratch{k}"):
-        k += 1
-    scratch = f"{name}_scratch{k}"
-    mesh.add_vertex_custom_scalar_attribute(values, scratch)
-    ms.compute_new_custom_scalar_attribute_per_vertex(name=name, expr=scratch)
-
-
-def _write_colors(ms, mesh, d, colormap, isolines, vmax):
-    if colormap == "none":
-        return
-    if colormap in MESHLAB_COLORMAPS:
-        # MeshLab's own ramp over the quality range [0, vmax]; unreachable vertices clamp to 0's colour.
-        ms.compute_color_from_scalar_per_vertex(
-            minval=0.0, maxval=vmax if vmax > 0 else 1.0, colormap=MESHLAB_COLORMAPS[colormap]
-        )
-        return
-    rgb = _colormap.to_uint8(_colormap.colorize(d, colormap=colormap, isolines=isolines))
-    for name, channel in zip(_COLOR_ATTRIBUTES, rgb.T):
-        _write_vertex_attribute(ms, mesh, name, channel.astype(np.float64))
-    x, y, z = _COLOR_ATTRIBUTES
-    ms.compute_color_by_function_per_vertex(x=x, y=y, z=z, a="255")
-
-
-# --------------------------------------------------------------------------- command line
-
-#: Solver options on the command line: (flag, argparse keywords). Each entry is
-#: passed to the filter as the keyword ``dest``; adding a solver option is one line here.
-SOLVER_ARGUMENTS = (
-    ("--m", dict(dest="m", type=float, default=1.0, help="heat time factor, t = m h^2 (default 1; larger: smoother)")),
-    (
-        "--boundary",
-        dict(dest="boundary", choices=("robin", "neumann", "dirichlet"), default="robin",
-             help="boundary condition on meshes with holes (default robin)"),
-    ),
-    (
-        "--accuracy",
-        dict(dest="accuracy", choices=("smooth", "high"), default="smooth",
-             help="smooth: the heat method; high: plus an ordered eikonal pass (more accurate, slower)"),
-    ),
-    (
-        "--no-robust",
-        dict(dest="robust", action="store_false",
-             help="plain cotan operators instead of intrinsic Delaunay (less accurate on bad triangles)"),
-    ),
-    (
-        "--refine",
-        dict(dest="refine", default="auto",
-             help="midpoint subdivision levels before solving: 'auto' or 0..8 (default auto)"),
-    ),
-)  # fmt: skip
-
-
-def _refine_value(text):
-    if text == "auto":
-        return "auto"
-    try:
-        return int(text)
-    except ValueError:
-        raise InvalidOptionError(f"--refine must be 'auto' or an integer 0..8, got {text!r}") from None
+#: Options of :mod:`heatcore.options` on this command line (besides ``colormap`` and ``isolines``).
+SOLVER_OPTIONS = ("m", "boundary", "accuracy", "robust", "refine", "weld")
 
 
 def build_parser(prog=None):
@@ -396,13 +85,11 @@ def add_arguments(parser):
         "--select", metavar="CONDITION",
         help="MeshLab per-vertex condition selecting the sources, e.g. \"(y > 0.9)\" or \"vi == 0\"",
     )  # fmt: skip
-    for flag, kwargs in SOLVER_ARGUMENTS:
-        parser.add_argument(flag, **kwargs)
-    parser.add_argument(
-        "--colormap", choices=COLORMAP_CHOICES, default="viridis",
-        help="vertex colours: heatcore's colormaps, MeshLab's ramps (meshlab-*), or none (default viridis)",
-    )  # fmt: skip
-    parser.add_argument("--isolines", type=int, default=0, help="isoline stripes in the colours (default 0)")
+    for name in SOLVER_OPTIONS:
+        options.add_argument(parser, name, front_end="meshlab")
+    options.add_argument(parser, "colormap", front_end="meshlab", extra=EXTRA_COLORMAPS,
+                         note="also MeshLab's ramps (meshlab-*), or none (colours untouched)")
+    options.add_argument(parser, "isolines", front_end="meshlab")
     parser.add_argument(
         "--unreachable", type=float, default=DEFAULT_UNREACHABLE,
         help="quality of vertices no source reaches (default -1)",
@@ -444,11 +131,9 @@ def run(args):
         if not mesh.vertex_selection_array().any():
             raise InvalidSourceError(f"--select {args.select!r} selects no vertex")
 
-    refine = _refine_value(args.refine)
-    options = {kw["dest"]: getattr(args, kw["dest"]) for _, kw in SOLVER_ARGUMENTS}
-    options["refine"] = refine
+    solver_options = {name: getattr(args, name) for name in SOLVER_OPTIONS}
     stats = geodesic_distance_from_selection(
-        ms, colormap=args.colormap, isolines=args.isolines, unreachable=args.unreachable, **options
+        ms, colormap=args.colormap, isolines=args.isolines, unreachable=args.unreachable, **solver_options
     )
     _save_ply(ms, output, binary=not args.ascii)
     stats["output"] = str(output)
@@ -489,10 +174,7 @@ def check_condition(condition):
 def _select_vertices(ms, mesh, indices):
     """Make exactly ``indices`` the vertex selection (faces deselected)."""
     n = mesh.vertex_number()
-    idx = np.asarray(indices, dtype=np.int64)
-    bad = idx[(idx < 0) | (idx >= n)]
-    if bad.size:
-        raise InvalidSourceError(f"source vertex {int(bad[0])} is out of range: the mesh has {n} vertices (0..{n - 1})")
+    idx = options.check_source_vertices(indices, n)
     flags = np.zeros(n)
     flags[idx] = 1.0
     _write_vertex_attribute(ms, mesh, "heatcore_sources", flags)
@@ -540,7 +222,10 @@ def main(argv=None, prog=None):
     ``main(["mesh.ply", "-o", "mesh_distance.ply"])`` returns 0 after writing the PLY.
     """
     parser = build_parser(prog)
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help, usage errors (exit status 2)
+        return exc.code if isinstance(exc.code, int) else 1
     try:
         stats = run(args)
     except HeatcoreError as exc:

@@ -1,0 +1,317 @@
+"""The MeshLab-style filter: geodesic distance from a :class:`pymeshlab.MeshSet`'s selection.
+
+:func:`geodesic_distance_from_selection` reads the selection of the current
+mesh as sources, writes the distance as vertex quality and as a custom vertex
+scalar attribute, colours the vertices, and returns statistics. Its options
+are checked by :mod:`heatcore.options` (names, ranges, defaults and help as
+everywhere else); MeshLab's own colour ramps are this front end's addition.
+No numerics live here: the distance comes from :class:`heatcore.HeatSolver`.
+The command line around it is :mod:`heatcore.apps.meshlab`.
+
+pymeshlab is imported by the caller only (see DESIGN.md: ``bpy`` must be
+imported before pymeshlab in a process).
+
+Examples
+--------
+>>> sorted(MESHLAB_COLORMAPS)[:2], COLORMAP_CHOICES[-1]
+(['meshlab-cividis', 'meshlab-plasma'], 'none')
+"""
+
+
+import re
+import time
+
+import numpy as np
+
+from .. import options
+from ..domains.triangle import TriangleMesh
+from ..errors import InvalidMeshError, InvalidOptionError, InvalidSourceError
+from ..heat import HeatSolver
+from ..viz import colormap as _colormap
+
+#: Name of the custom per-vertex scalar attribute that receives the distance.
+DEFAULT_ATTRIBUTE = "heat_distance"
+
+#: Quality given to vertices that no source reaches. Distances are >= 0, so
+#: MeshLab's ``compute_selection_by_condition_per_vertex(condselect="q < 0")``
+#: selects exactly these vertices; MeshLab's tools cannot handle ``inf``.
+DEFAULT_UNREACHABLE = -1.0
+
+#: MeshLab's own colour ramps (``compute_color_from_scalar_per_vertex``), by our name.
+MESHLAB_COLORMAPS = {
+    "meshlab-rgb": "RGB",
+    "meshlab-viridis": "Viridis",
+    "meshlab-plasma": "Plasma",
+    "meshlab-cividis": "Cividis",
+    "meshlab-turbo": "Turbo",
+    "meshlab-rdpu": "RdPu",
+}
+
+#: Choices this front end adds to :mod:`heatcore.options`' colormaps: MeshLab's ramps, or "none" (colours untouched).
+EXTRA_COLORMAPS = (*MESHLAB_COLORMAPS, "none")
+#: Every accepted ``colormap``.
+COLORMAP_CHOICES = options.OPTIONS["colormap"].choices + EXTRA_COLORMAPS
+
+# Names MeshLab's expression parser defines per vertex; an attribute may not shadow them.
+_RESERVED_NAMES = {
+    "x", "y", "z", "nx", "ny", "nz", "r", "g", "b", "a", "q", "vi", "rad", "vtu", "vtv", "ti",
+    "x0", "y0", "z0", "nx0", "ny0", "nz0", "r0", "g0", "b0", "a0", "q0", "vsel", "fsel",
+}  # fmt: skip
+_IDENTIFIER = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+_COLOR_ATTRIBUTES = ("heatcore_red", "heatcore_green", "heatcore_blue")
+
+
+def geodesic_distance_from_selection(
+    ms,
+    *,
+    m=1.0,
+    boundary="robin",
+    accuracy="smooth",
+    robust=True,
+    refine="auto",
+    weld=0.0,
+    colormap="viridis",
+    isolines=0,
+    attribute=DEFAULT_ATTRIBUTE,
+    unreachable=DEFAULT_UNREACHABLE,
+    solver=None,
+    **solver_options,
+):
+    """Geodesic distance from the selection of a MeshSet's current mesh, MeshLab-filter style.
+
+    Sources are the selected vertices; where no vertex is selected, the
+    selected faces (the distance is then to their union). The distance is
+    written as vertex quality and as the custom vertex scalar attribute
+    ``attribute``, and the vertices are coloured. The selection is left as it
+    is. On any error the mesh is left unchanged.
+
+    Parameters
+    ----------
+    ms : pymeshlab.MeshSet
+        Its current mesh is the input; triangles are used as pymeshlab stores
+        them (polygons are triangulated).
+    m : float, default 1.0
+        Heat time factor, ``t = m h^2``; larger gives a smoother distance.
+    boundary : {"robin", "neumann", "dirichlet"}, default "robin"
+        Boundary condition of the heat step on meshes with holes.
+    accuracy : {"smooth", "high"}, default "smooth"
+        "high" adds an ordered eikonal pass (see :class:`heatcore.HeatSolver`).
+    robust : bool, default True
+        Intrinsic Delaunay operators (accurate on badly shaped triangles);
+        ``False`` gives plain cotan, as MeshLab's own heat filter uses.
+    refine : "auto" or int, default "auto"
+        Midpoint subdivision levels before solving (see :class:`heatcore.TriangleMesh`).
+    weld : float or None, default 0.0
+        Merge vertices closer than this (0: at the same position; None:
+        never), see :class:`heatcore.TriangleMesh`.
+    colormap : str, default "viridis"
+        One of heatcore's colormaps (``viridis``, ``magma``, ``inferno``,
+        ``plasma``, ``cividis``), one of MeshLab's ramps (``meshlab-rgb``,
+        ``meshlab-viridis``, ``meshlab-plasma``, ``meshlab-cividis``,
+        ``meshlab-turbo``, ``meshlab-rdpu``), or ``"none"`` to leave colours alone.
+    isolines : int, default 0
+        Dark isoline stripes (heatcore colormaps only).
+    attribute : str, default "heat_distance"
+        Custom vertex scalar attribute that receives the distance; usable by
+        name in MeshLab expressions (``condselect="heat_distance < 0.1"``).
+    unreachable : float, default -1.0
+        Quality and attribute value of vertices no source reaches (another
+        connected component, unreferenced vertices). MeshLab's tools do not
+        handle ``inf``; the statistics count these vertices.
+    solver : HeatSolver, optional
+        A solver from an earlier call's statistics (``stats["solver"]``) on
+        the same mesh: skips the precomputation.
+    **solver_options
+        Further keyword arguments of :class:`heatcore.HeatSolver` (for
+        example ``backend``), checked by :mod:`heatcore.options` where
+        declared there.
+
+    Returns
+    -------
+    dict
+        ``sources`` (int), ``source_kind`` ("vertices" or "faces"),
+        ``vertices``, ``faces``, ``polygons`` (faces of more than 3 sides in
+        the input), ``reached``, ``unreachable`` (vertex counts), ``min``,
+        ``max``, ``mean`` (of the finite distances), ``attribute``,
+        ``colormap``, ``seconds`` (``setup``, ``distance``, ``write``,
+        ``total``), ``distance`` ((n,) array with ``inf`` where unreachable)
+        and ``solver`` (pass it back to skip the setup next time).
+
+    Raises
+    ------
+    InvalidSourceError
+        Nothing is selected.
+    InvalidOptionError
+        An option is out of range, or ``solver`` belongs to another mesh.
+    InvalidMeshError
+        The current mesh has no faces.
+    """
+    start = time.perf_counter()
+    mesh_kw = {"robust": robust, "refine": refine, "weld": weld}
+    solver_kw = {"m": m, "boundary": boundary, "accuracy": accuracy, **solver_options}
+    mesh_kw, solver_kw = options.check_all(mesh_kw), options.check_all(solver_kw)
+    colormap, isolines = _check_options(colormap, isolines, attribute, unreachable)
+    mesh = _current_mesh(ms)
+    V = np.asarray(mesh.vertex_matrix(), dtype=np.float64)
+    F = np.asarray(mesh.face_matrix(), dtype=np.int64)
+    if F.shape[0] == 0:
+        raise InvalidMeshError("the current mesh has no faces: the heat method needs a triangle or polygon mesh")
+    kind, sources = _selected_sources(mesh)
+
+    if solver is None:
+        solver = HeatSolver(TriangleMesh(V, F, **mesh_kw), **solver_kw)
+    else:
+        _check_solver(solver, V, F)
+    setup = time.perf_counter()
+    if kind == "vertices":
+        d = solver.distance(sources)
+    else:
+        d = solver.distance(region=sources)
+    query = time.perf_counter()
+
+    finite = np.isfinite(d)
+    values = np.where(finite, d, float(unreachable))
+    _write_vertex_attribute(ms, mesh, attribute, values)
+    ms.compute_scalar_by_function_per_vertex(q=attribute)
+    vmax = float(d[finite].max()) if finite.any() else 0.0
+    _write_colors(ms, mesh, d, colormap, isolines, vmax)
+    done = time.perf_counter()
+
+    return {
+        "sources": len(sources),
+        "source_kind": kind,
+        "vertices": int(V.shape[0]),
+        "faces": int(F.shape[0]),
+        "polygons": _polygon_count(mesh),
+        "reached": int(finite.sum()),
+        "unreachable": int((~finite).sum()),
+        "min": float(d[finite].min()) if finite.any() else float("nan"),
+        "max": vmax if finite.any() else float("nan"),
+        "mean": float(d[finite].mean()) if finite.any() else float("nan"),
+        "attribute": attribute,
+        "colormap": colormap,
+        "seconds": {
+            "setup": setup - start,
+            "distance": query - setup,
+            "write": done - query,
+            "total": done - start,
+        },
+        "distance": d,
+        "solver": solver,
+    }
+
+
+def _check_options(colormap, isolines, attribute, unreachable):
+    """The checked ``(colormap, isolines)``; the filter's own options (attribute, unreachable) checked too."""
+    colormap = options.check("colormap", colormap, extra=EXTRA_COLORMAPS)
+    isolines = options.check("isolines", isolines)
+    if isolines and colormap not in _colormap.COLORMAPS:
+        raise InvalidOptionError(f"isolines need one of heatcore's colormaps {sorted(_colormap.COLORMAPS)}")
+    if not (isinstance(attribute, str) and _IDENTIFIER.match(attribute)) or attribute in _RESERVED_NAMES:
+        raise InvalidOptionError(
+            f"attribute name {attribute!r} must be an identifier (letters, digits, _) "
+            f"and not one of MeshLab's per-vertex variables {sorted(_RESERVED_NAMES)}"
+        )
+    if attribute in _COLOR_ATTRIBUTES:
+        raise InvalidOptionError(f"attribute name {attribute!r} is used for the colours; choose another")
+    if not (isinstance(unreachable, (int, float, np.integer, np.floating)) and np.isfinite(unreachable)):
+        raise InvalidOptionError(f"unreachable must be a finite number (MeshLab cannot use inf), got {unreachable!r}")
+    return colormap, isolines
+
+
+def _current_mesh(ms):
+    try:
+        mesh = ms.current_mesh()
+    except Exception as exc:  # pymeshlab raises its own exception type for an empty MeshSet
+        raise InvalidMeshError(f"the MeshSet has no current mesh: load one first ({exc})") from exc
+    if not mesh.is_compact():  # deleted elements linger until compaction; arrays need a compact mesh
+        mesh.compact()
+    return mesh
+
+
+def _selected_sources(mesh):
+    """("vertices", indices) of the selected vertices, else ("faces", indices) of selected faces."""
+    vertices = np.flatnonzero(mesh.vertex_selection_array())
+    if vertices.size:
+        return "vertices", vertices
+    faces = np.flatnonzero(mesh.face_selection_array())
+    if faces.size:
+        return "faces", faces
+    raise InvalidSourceError(
+        "no source: the mesh has no selected vertices or faces. Select the source vertices "
+        "(in MeshLab, save as PLY with the 'Flags' box checked to keep the selection), "
+        "or pass sources explicitly (--sources indices, or --select a MeshLab condition)"
+    )
+
+
+def _check_solver(solver, V, F):
+    domain = getattr(solver, "domain", None)
+    same = (
+        domain is not None
+        and getattr(domain, "vertices", np.empty((0, 3))).shape == V.shape
+        and getattr(domain, "faces", np.empty((0, 3))).shape == F.shape
+        and np.array_equal(domain.vertices, V)
+        and np.array_equal(domain.faces, F)
+    )
+    if not same:
+        raise InvalidOptionError(
+            "the solver passed in was built for another mesh (vertices or faces differ): "
+            "call without solver= to build one for this mesh"
+        )
+
+
+def _polygon_count(mesh):
+    """Faces of more than three sides in the input (pymeshlab keeps them as faux-edge triangle fans).
+
+    Polygons are triangulated for now; once heatcore has a polygon domain,
+    polygon input goes through it instead.
+    """
+    try:
+        polys = mesh.polygonal_face_list()
+    except Exception:  # a build of pymeshlab without polygon support: count none
+        return 0
+    return int(sum(1 for p in polys if len(p) > 3))
+
+
+def _attribute_exists(mesh, name):
+    try:
+        mesh.vertex_custom_scalar_attribute_array(name)
+    except Exception:  # pymeshlab raises PyMeshLabException for a missing attribute
+        return False
+    return True
+
+
+def _write_vertex_attribute(ms, mesh, name, values):
+    """Set the custom vertex scalar attribute ``name`` to ``values`` (adding or overwriting it).
+
+    pymeshlab can add an attribute but neither remove nor overwrite one from
+    numpy; an existing one is overwritten through MeshLab's expression filter,
+    from a fresh scratch attribute (which stays: MeshLab cannot delete
+    attributes; custom attributes are not saved to files).
+    """
+    values = np.ascontiguousarray(values, dtype=np.float64)
+    if not _attribute_exists(mesh, name):
+        mesh.add_vertex_custom_scalar_attribute(values, name)
+        return
+    k = 1
+    while _attribute_exists(mesh, f"{name}_scratch{k}"):
+        k += 1
+    scratch = f"{name}_scratch{k}"
+    mesh.add_vertex_custom_scalar_attribute(values, scratch)
+    ms.compute_new_custom_scalar_attribute_per_vertex(name=name, expr=scratch)
+
+
+def _write_colors(ms, mesh, d, colormap, isolines, vmax):
+    if colormap == "none":
+        return
+    if colormap in MESHLAB_COLORMAPS:
+        # MeshLab's own ramp over the quality range [0, vmax]; unreachable vertices clamp to 0's colour.
+        ms.compute_color_from_scalar_per_vertex(
+            minval=0.0, maxval=vmax if vmax > 0 else 1.0, colormap=MESHLAB_COLORMAPS[colormap]
+        )
+        return
+    rgb = _colormap.to_uint8(_colormap.colorize(d, colormap=colormap, isolines=isolines))
+    for name, channel in zip(_COLOR_ATTRIBUTES, rgb.T):
+        _write_vertex_attribute(ms, mesh, name, channel.astype(np.float64))
+    x, y, z = _COLOR_ATTRIBUTES
+    ms.compute_color_by_function_per_vertex(x=x, y=y, z=z, a="255")
