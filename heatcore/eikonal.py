@@ -56,7 +56,7 @@ import weakref
 
 import numpy as np
 
-from .domains.intrinsic import NEXT, PREV, face_edge_lengths
+from .domains.intrinsic import NEXT, PREV
 
 #: Width of a band of heat distance, in mean edge lengths.
 BAND_WIDTH = 1.0
@@ -123,18 +123,12 @@ class CornerTable:
 
     @classmethod
     def of_domain(cls, domain):
-        """The corner table of a :class:`~heatcore.domains.triangle.TriangleMesh` (built once, cached)."""
+        """The corner table of a domain's :meth:`~heatcore.domains.base.Domain.eikonal_triangles` (built once, cached)."""
         try:
             return _CORNERS[domain]
         except (KeyError, TypeError):
             pass
-        tri, sub = domain.intrinsic, domain.subdivision
-        n = domain.operators.n_vertices
-        table = cls(
-            n,
-            [tri.faces, sub.faces],
-            [tri.lengths, face_edge_lengths(sub.vertices, sub.faces)],
-        )
+        table = cls(domain.operators.n_vertices, *domain.eikonal_triangles())
         try:
             _CORNERS[domain] = table
         except TypeError:  # pragma: no cover - a domain that cannot be weakly referenced
@@ -251,10 +245,10 @@ def refine_distance(
 
     Parameters
     ----------
-    domain : TriangleMesh
-        Provides ``intrinsic`` (intrinsic Delaunay triangles with lengths),
-        ``subdivision`` (the extrinsic mesh on the same vertices) and
-        ``operators.mean_edge_length``.
+    domain : Domain with ``supports_high_accuracy``
+        Provides the triangles to sweep (:meth:`~heatcore.domains.base.Domain.eikonal_triangles`;
+        for a triangle mesh the intrinsic Delaunay triangles and the extrinsic
+        mesh on the same vertices) and ``operators.mean_edge_length``.
     phi : (n,) float array
         Heat-method distance at the operator vertices, in the input's units
         (``inf`` where unreachable); only its order is used.

@@ -22,12 +22,14 @@ Examples
 
 import logging
 import time
+import weakref
 from concurrent.futures import Future
 
 import numpy as np
 import scipy.sparse as sp
 
 from .domains.parts import first_of_each, hop_diameters, vertex_components, vertex_graph
+from .domains.sources import source_keywords
 from .errors import InvalidOptionError, SolverError
 from .linalg import (
     Ordering,
@@ -39,6 +41,9 @@ from .linalg import (
 )
 
 log = logging.getLogger("heatcore")
+
+#: Factorizations and orderings of each live domain, shared by its solvers (see :func:`domain_factors`).
+_DOMAIN_FACTORS = weakref.WeakKeyDictionary()
 
 BOUNDARY_CONDITIONS = ("robin", "neumann", "dirichlet")
 ACCURACY_MODES = ("smooth", "high")
@@ -114,7 +119,7 @@ class HeatSolver:
             raise InvalidOptionError(f"boundary must be one of {BOUNDARY_CONDITIONS}, got {boundary!r}")
         if accuracy not in ACCURACY_MODES:
             raise InvalidOptionError(f"accuracy must be one of {ACCURACY_MODES}, got {accuracy!r}")
-        if accuracy == "high" and getattr(domain, "intrinsic", None) is None:
+        if accuracy == "high" and not domain.supports_high_accuracy:
             raise InvalidOptionError(f"accuracy='high' is available on triangle meshes, not on {type(domain).__name__}")
         self.accuracy = accuracy
         self.domain = domain
@@ -127,8 +132,8 @@ class HeatSolver:
         self._backend = backend
         self._laplacian = ops.laplacian.tocsr()
         # Factorizations and orderings that depend on the domain only (not on m or
-        # the boundary condition) are kept on the domain for every solver built on it.
-        self._domain_cache = domain.__dict__.setdefault("_heatcore_factors", {})
+        # the boundary condition) are shared by every solver built on it.
+        self._domain_cache = domain_factors(domain)
         poisson_backend = self._resolve(backend, "solve")
         if ("poisson", backend) not in self._domain_cache and ("nested", poisson_backend) not in self._domain_cache:
             # On large meshes: a better ordering for the Poisson factor, computed in the
@@ -190,10 +195,13 @@ class HeatSolver:
         vertices : int or sequence of int, optional
             Source vertex indices.
         **sources
-            Other kinds of sources, as the domain's ``source_pins`` accepts
-            them; for a :class:`~heatcore.TriangleMesh`: ``face_points``
-            (points on faces with barycentric coordinates), ``edges`` and
-            ``faces`` (regions; the distance is to their union).
+            Other kinds of sources, those the domain lists in its
+            ``source_kinds``: ``points=(element_indices, barycentric)``
+            (points inside faces or tets), ``edges`` (vertex pairs) and
+            ``region`` (faces or polygons, or boundary triangles of a tet
+            mesh; the distance is to their union). The old names
+            ``face_points``, ``tet_points``, ``faces`` and ``boundary_faces``
+            still work, with a ``DeprecationWarning``.
 
         Returns
         -------
@@ -201,7 +209,7 @@ class HeatSolver:
             Distance per input vertex; ``inf`` where no source can be reached
             (another connected component, or a vertex used by no element).
         """
-        pins = self.domain.source_pins(vertices, **sources)
+        pins = self.domain.source_pins(vertices, **source_keywords(sources, stacklevel=3))
         phi = np.append(self.distance_from_pins(pins), np.inf)
         return phi[self.domain.output_vertices]  # index -1 (unreferenced) reads the appended inf
 
@@ -361,6 +369,23 @@ class HeatSolver:
             ordering = restrict_ordering(self._laplacian_ordering(backend), idx)
             phi[idx] = factor(L[idx][:, idx], backend, ordering=ordering).solve(rhs)
         return phi
+
+
+def domain_factors(domain):
+    """The factorizations and orderings kept for ``domain``, shared by every solver built on it.
+
+    They depend on the domain only (not on ``m`` or the boundary condition),
+    live as long as the domain does, and are kept here, not on the domain.
+
+    Examples
+    --------
+    >>> import numpy as np, heatcore as hc
+    >>> mesh = hc.TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0)
+    >>> _ = hc.HeatSolver(mesh)
+    >>> sorted(key for key, _ in domain_factors(mesh))
+    ['nested', 'ordering', 'poisson']
+    """
+    return _DOMAIN_FACTORS.setdefault(domain, {})
 
 
 def _squared_row_norms(g):

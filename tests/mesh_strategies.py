@@ -336,10 +336,10 @@ class Sources:
         if self.edges is not None:
             kw["edges"] = np.asarray(self.edges, dtype=np.int64) if self.edge_form == "numpy" else [list(e) for e in self.edges]
         if self.faces is not None:
-            kw["faces"] = list(self.faces)
+            kw["region"] = list(self.faces)
         if self.face_points is not None:
             fi, bary = self.face_points
-            kw["face_points"] = (list(fi), np.asarray(bary, float))
+            kw["points"] = (list(fi), np.asarray(bary, float))
         return kw
 
     def query(self, solver):

@@ -116,7 +116,7 @@ def test_flat_surface_point_and_several_sources():
     # a point inside face 100
     bary = np.array([[0.2, 0.5, 0.3]])
     p = bary[0] @ V[F[100]]
-    d = solver.distance(face_points=([100], bary))
+    d = solver.distance(points=([100], bary))
     exact = np.linalg.norm(V - p, axis=1)
     assert np.abs(d - exact).max() <= 1e-5 * exact.max()
     # two source vertices: the distance to the nearer one. Where the two vertices of a triangle

@@ -171,7 +171,7 @@ def test_large_mesh_poisson_factor_uses_nested_dissection(monkeypatch):
     monkeypatch.setattr(hc.linalg, "NESTED_DISSECTION_MIN_SIZE", 0)  # as on large meshes
     mesh = hc.TriangleMesh(V, F, refine=1)
     solver = hc.HeatSolver(mesh, backend="supernodal")
-    cache = mesh._heatcore_factors
+    cache = hc.heat.domain_factors(mesh)
     nested, quick = cache["nested", "supernodal"], cache["ordering", "supernodal"]
     assert isinstance(nested, hc.linalg.Ordering) and not np.array_equal(nested.permutation, quick.permutation)
     assert np.allclose(solver.distance([3, 500]), with_amd, rtol=1e-9, atol=1e-12)

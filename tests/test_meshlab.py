@@ -26,7 +26,7 @@ def select(ms, vertices):
 def reference(ms, vertices=None, faces=None, refine="auto", weld=0.0, **kw):
     mesh = ms.current_mesh()
     solver = hc.HeatSolver(hc.TriangleMesh(mesh.vertex_matrix(), mesh.face_matrix(), refine=refine, weld=weld), **kw)
-    return solver.distance(vertices, faces=faces)
+    return solver.distance(vertices, region=faces)
 
 
 def colors_uint8(mesh):

@@ -60,7 +60,7 @@ def test_distances_scale_with_the_mesh_at_any_finite_scale(spot, scale):
     V, F = spot
     solver = hc.HeatSolver(hc.TriangleMesh(V, F))
     scaled = hc.HeatSolver(hc.TriangleMesh(V * scale, F))
-    for kind in ({"vertices": [0, 900]}, {"face_points": ([40], [[0.2, 0.3, 0.5]])}):
+    for kind in ({"vertices": [0, 900]}, {"points": ([40], [[0.2, 0.3, 0.5]])}):
         d, ds = solver.distance(**kind), scaled.distance(**kind)
         assert np.isfinite(ds).all()
         np.testing.assert_allclose(ds / scale, d, rtol=1e-9, atol=1e-12 * d.max())

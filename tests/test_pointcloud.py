@@ -160,7 +160,7 @@ def test_bad_sources(spot):
     with pytest.raises(InvalidSourceError, match="no source"):
         solver.distance()
     with pytest.raises(InvalidSourceError, match="only"):
-        solver.distance(face_points=([0], [[1.0, 0.0, 0.0]]))
+        solver.distance(points=([0], [[1.0, 0.0, 0.0]]))
     with pytest.raises(InvalidOptionError):
         hc.HeatSolver(PointCloud(spot[0]), accuracy="high")
 

@@ -500,25 +500,25 @@ def _bad_source(kind, data, mesh):
         "edge nested deeper": ((), {"edges": [[[v, w]]]}),
         "edge ragged": ((), {"edges": [[v, w], [v]]}),
         "edge on unreferenced vertex": ((), {"edges": [[v, u]]}),
-        "face m": ((), {"faces": [m]}),
-        "face -1": ((), {"faces": [-1]}),
-        "face 0.5": ((), {"faces": [f + 0.5]}),
-        "nested faces": ((), {"faces": [[f], [0]]}),
-        "empty faces": ((), {"faces": []}),
-        "face point out of range": ((), {"face_points": ([m], [[1.0, 0.0, 0.0]])}),
-        "face point bary sum": ((), {"face_points": ([f], [[0.5, 0.6, 0.0]])}),
-        "face point bary negative": ((), {"face_points": ([f], [[-0.5, 1.5, 0.0]])}),
-        "face point bary nan": ((), {"face_points": ([f], [[np.nan, 0.5, 0.5]])}),
-        "face point count mismatch": ((), {"face_points": ([f, 0], [[1.0, 0.0, 0.0]])}),
-        "face point 2 weights": ((), {"face_points": ([f], [[0.5, 0.5]])}),
-        "face point 4 weights": ((), {"face_points": ([f], [[0.25, 0.25, 0.25, 0.25]])}),
-        "face point bary strings": ((), {"face_points": ([f], [["a", "b", "c"]])}),
-        "face points not a pair": ((), {"face_points": [f]}),
-        "face points one-tuple": ((), {"face_points": ([f],)}),
-        "face points triple": ((), {"face_points": ([f], [[1.0, 0.0, 0.0]], 0)}),
-        "face points string": ((), {"face_points": "abc"}),
-        "face point index 0.5": ((), {"face_points": ([f + 0.5], [[1.0, 0.0, 0.0]])}),
-        "face point nested index": ((), {"face_points": ([[f]], [[1.0, 0.0, 0.0]])}),
+        "face m": ((), {"region": [m]}),
+        "face -1": ((), {"region": [-1]}),
+        "face 0.5": ((), {"region": [f + 0.5]}),
+        "nested faces": ((), {"region": [[f], [0]]}),
+        "empty faces": ((), {"region": []}),
+        "face point out of range": ((), {"points": ([m], [[1.0, 0.0, 0.0]])}),
+        "face point bary sum": ((), {"points": ([f], [[0.5, 0.6, 0.0]])}),
+        "face point bary negative": ((), {"points": ([f], [[-0.5, 1.5, 0.0]])}),
+        "face point bary nan": ((), {"points": ([f], [[np.nan, 0.5, 0.5]])}),
+        "face point count mismatch": ((), {"points": ([f, 0], [[1.0, 0.0, 0.0]])}),
+        "face point 2 weights": ((), {"points": ([f], [[0.5, 0.5]])}),
+        "face point 4 weights": ((), {"points": ([f], [[0.25, 0.25, 0.25, 0.25]])}),
+        "face point bary strings": ((), {"points": ([f], [["a", "b", "c"]])}),
+        "face points not a pair": ((), {"points": [f]}),
+        "face points one-tuple": ((), {"points": ([f],)}),
+        "face points triple": ((), {"points": ([f], [[1.0, 0.0, 0.0]], 0)}),
+        "face points string": ((), {"points": "abc"}),
+        "face point index 0.5": ((), {"points": ([f + 0.5], [[1.0, 0.0, 0.0]])}),
+        "face point nested index": ((), {"points": ([[f]], [[1.0, 0.0, 0.0]])}),
     }
     return cases[kind]
 
@@ -549,7 +549,7 @@ def test_source_on_a_dropped_face_raises_invalid_source_error(data):
     F = np.vstack([mesh.F, [[n, n, n + 1]]])
     bad = F.shape[0] - 1
     kwargs = data.draw(
-        st.sampled_from([{"faces": [bad]}, {"face_points": ([bad], [[0.2, 0.3, 0.5]])}, {"face_points": ([bad], [[1.0, 0, 0]])}]),
+        st.sampled_from([{"region": [bad]}, {"points": ([bad], [[0.2, 0.3, 0.5]])}, {"points": ([bad], [[1.0, 0, 0]])}]),
         label="source",
     )
     solver = hc.HeatSolver(hc.TriangleMesh(V, F, refine=data.draw(st.sampled_from([0, 1]), label="refine")))

@@ -283,7 +283,7 @@ def test_tet_point_source_in_one_tet_is_exact():
     mesh = TetMesh(UNIT_TET, [[0, 2, 1, 3]])  # negatively oriented
     b = np.array([[0.1, 0.2, 0.3, 0.4]])
     p = b @ UNIT_TET[[0, 2, 1, 3]]
-    d = hc.HeatSolver(mesh).distance(tet_points=([0], b))
+    d = hc.HeatSolver(mesh).distance(points=([0], b))
     assert np.allclose(d, np.linalg.norm(UNIT_TET - p, axis=1))
 
 
@@ -293,7 +293,7 @@ def test_tet_point_source_in_a_cube():
     tet = int(np.argmin(np.linalg.norm(V[T].mean(1) - 0.5, axis=1)))
     b = np.array([[0.4, 0.3, 0.2, 0.1]])
     p = b @ V[T[tet]]
-    d = hc.HeatSolver(mesh).distance(tet_points=([tet], b))
+    d = hc.HeatSolver(mesh).distance(points=([tet], b))
     exact = np.linalg.norm(V - p, axis=1)
     assert np.allclose(d[T[tet]], exact[T[tet]])
     assert mean_relative_error(d, exact) <= 0.03
@@ -303,7 +303,7 @@ def test_boundary_face_source_gives_distance_to_the_face():
     V, T = cube_mesh(9)
     mesh = TetMesh(V, T)
     bottom = mesh.boundary_faces[(V[mesh.boundary_faces][:, :, 2] < 1e-12).all(axis=1)]
-    d = hc.HeatSolver(mesh).distance(boundary_faces=bottom[:, ::-1])  # any winding
+    d = hc.HeatSolver(mesh).distance(region=bottom[:, ::-1])  # any winding
     err = mean_relative_error(d, V[:, 2])
     print(f"distance to the face z = 0: mean relative error {err:.4f}")
     assert np.all(d[np.unique(bottom)] == 0)
@@ -329,15 +329,15 @@ def test_bad_sources_are_rejected():
     with pytest.raises(InvalidSourceError, match="out of range"):
         solver.distance([len(V)])
     with pytest.raises(InvalidSourceError, match="tet index"):
-        solver.distance(tet_points=([len(T)], [[0.25] * 4]))
+        solver.distance(points=([len(T)], [[0.25] * 4]))
     with pytest.raises(InvalidSourceError, match="barycentric"):
-        solver.distance(tet_points=([0], [[0.5, 0.5, 0.5, 0.5]]))
+        solver.distance(points=([0], [[0.5, 0.5, 0.5, 0.5]]))
     with pytest.raises(InvalidSourceError, match="interior face"):
-        solver.distance(boundary_faces=[T[0, :3]] if not _on_boundary(mesh, T[0, :3]) else [T[1, :3]])
+        solver.distance(region=[T[0, :3]] if not _on_boundary(mesh, T[0, :3]) else [T[1, :3]])
     with pytest.raises(InvalidSourceError, match="not a face of any tet"):
-        solver.distance(boundary_faces=[[0, 1, len(V) - 1]])
+        solver.distance(region=[[0, 1, len(V) - 1]])
     with pytest.raises(InvalidSourceError, match=r"shape \(k, 3\)"):
-        solver.distance(boundary_faces=[[0, 1, 2, 3]])
+        solver.distance(region=[[0, 1, 2, 3]])
 
 
 def _on_boundary(mesh, tri):

@@ -50,7 +50,7 @@ from .operators import Operators
 from .parts import part_extremes, part_means, vertex_components
 from .polygon_shape import fan_triangulate, simple_polygons  # noqa: F401 (fan_triangulate: public here too)
 from .refine import unique_edges
-from .sources import SourcePins, edge_list, index_list
+from .sources import edge_list, index_list
 from .triangle import triangle_operators
 from .validate import vertex_array
 
@@ -284,6 +284,9 @@ class PolygonMesh(MeshDomain):
     """
 
     element_name = "polygon"
+    domain_name = "polygon mesh"
+    source_kinds = ("vertices", "edges", "region")
+    unit_heat_once = True
 
     def __init__(self, V, polygons, *, delaunay=False, split_crossing=False):
         self.vertices = vertex_array(V)
@@ -374,54 +377,29 @@ class PolygonMesh(MeshDomain):
         elements = stand_in[intrinsic.faces]
         return Operators(L, mass, G, fan_ops.volumes, 2, boundary, elements, h[part])
 
-    def source_pins(self, vertices=None, *, edges=None, faces=None):
-        """Turn a source specification into :class:`~heatcore.domains.sources.SourcePins`.
+    def _pin_edges(self, edges, pins):
+        """Polygon edges (vertex pairs): their end points, at distance 0."""
+        e = edge_list(edges, self.n_input_vertices)
+        ce = np.sort(self._referenced(e.ravel()).reshape(-1, 2), axis=1)
+        n = self.operators.n_vertices
+        keys = self.polygon_edges[:, 0] * n + self.polygon_edges[:, 1]
+        query = ce[:, 0] * n + ce[:, 1]
+        pos = np.clip(np.searchsorted(keys, query), 0, max(keys.size - 1, 0))
+        missing = keys[pos] != query
+        if missing.any():
+            bad = e[np.flatnonzero(missing)[0]].tolist()
+            raise InvalidSourceError(f"vertex pair {bad} is not an edge of the polygon mesh")
+        pins.add(ce.ravel())
 
-        Parameters
-        ----------
-        vertices : int or sequence of int, optional
-            Source vertices (distance 0).
-        edges : (k, 2) array_like of int, optional
-            Polygon edges (vertex pairs); their end points are pinned at 0.
-        faces : sequence of int, optional
-            Input polygon indices; the distance is to their union (their
-            corners are pinned at 0).
-
-        Raises
-        ------
-        InvalidSourceError
-            No source, indices out of range, unreferenced vertices, ignored
-            polygons, or pairs that are not polygon edges.
-        """
-        pins = []
-        if vertices is not None:
-            v = index_list(vertices, self.n_input_vertices, "vertex")
-            pins.append(self._referenced(v))
-        if edges is not None:
-            e = edge_list(edges, self.n_input_vertices)
-            ce = np.sort(self._referenced(e.ravel()).reshape(-1, 2), axis=1)
-            n = self.operators.n_vertices
-            keys = self.polygon_edges[:, 0] * n + self.polygon_edges[:, 1]
-            query = ce[:, 0] * n + ce[:, 1]
-            pos = np.clip(np.searchsorted(keys, query), 0, max(keys.size - 1, 0))
-            missing = keys[pos] != query
-            if missing.any():
-                bad = e[np.flatnonzero(missing)[0]].tolist()
-                raise InvalidSourceError(f"vertex pair {bad} is not an edge of the polygon mesh")
-            pins.append(ce.ravel())
-        if faces is not None:
-            f = index_list(faces, self.n_input_polygons, "polygon")
-            kept = self.polygon_map[f]
-            if (kept < 0).any():
-                bad = int(f[kept < 0][0])
-                raise InvalidSourceError(f"polygon {bad} was ignored (fewer than 3 distinct corners or a duplicate)")
-            starts, stops = self.offsets[kept], self.offsets[kept + 1]
-            sizes = stops - starts
-            pos = np.repeat(starts - np.r_[0, np.cumsum(sizes)[:-1]], sizes) + np.arange(sizes.sum())
-            pins.append(self.vertex_map[self.indices[pos]])
-        if not pins or sum(p.size for p in pins) == 0:
-            raise InvalidSourceError("no source given: pass vertex indices, edges or faces (at least one)")
-        idx = np.unique(np.concatenate(pins))
-        ones = np.ones(idx.size)
-        return SourcePins.combine(self.operators.n_vertices, idx, np.zeros(idx.size), idx, ones)
+    def _pin_region(self, polygons, pins):
+        """Input polygons (indices): their corners, at distance 0."""
+        f = index_list(polygons, self.n_input_polygons, "polygon")
+        kept = self.polygon_map[f]
+        if (kept < 0).any():
+            bad = int(f[kept < 0][0])
+            raise InvalidSourceError(f"polygon {bad} was ignored (fewer than 3 distinct corners or a duplicate)")
+        starts, stops = self.offsets[kept], self.offsets[kept + 1]
+        sizes = stops - starts
+        pos = np.repeat(starts - np.r_[0, np.cumsum(sizes)[:-1]], sizes) + np.arange(sizes.sum())
+        pins.add(self.vertex_map[self.indices[pos]])
 

@@ -1,12 +1,26 @@
 """Sources as the heat solver sees them: pinned vertex values plus a heat impulse.
 
-Every kind of source (vertices, points inside elements, regions made of edges
-or faces) becomes a :class:`SourcePins`: the operator vertices whose distance
-is known (0 for a source vertex, the straight-line distance inside a flat
-element for a point in that element) and the right-hand side of the heat
-step. Domains build it; :mod:`heatcore.heat` consumes it.
+Every domain speaks one vocabulary (:data:`SOURCE_KINDS`): ``vertices``,
+``points=(element_indices, barycentric)`` (points inside elements),
+``edges`` (vertex pairs) and ``region`` (elements whose union is the source);
+each domain takes the kinds it lists in ``source_kinds``. Every kind becomes
+part of one :class:`SourcePins`, built by :func:`build_source_pins`: the
+operator vertices whose distance is known (0 for a source vertex, the
+straight-line distance inside a flat element for a point in that element) and
+the right-hand side of the heat step. Domains supply one ``_pin_KIND`` method
+per kind; :mod:`heatcore.heat` consumes the pins.
+
+Examples
+--------
+>>> import numpy as np
+>>> from heatcore.domains import TriangleMesh
+>>> mesh = TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0)
+>>> pins = build_source_pins(mesh, [0], points=([0], [[0.0, 0.5, 0.5]]))
+>>> pins.vertices.tolist(), pins.values.round(3).tolist()
+([0, 1, 2], [0.0, 0.707, 0.707])
 """
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -39,6 +53,162 @@ class SourcePins:
         first = np.r_[True, vertices[1:] != vertices[:-1]]
         heat = np.bincount(heat_vertices, weights=heat_weights, minlength=n).astype(float)
         return cls(vertices[first], values[first], heat)
+
+
+#: The source vocabulary of every domain: keyword -> what it names.
+SOURCE_KINDS = {
+    "vertices": "vertex indices (distance 0)",
+    "points": "points inside elements: (element indices, barycentric coordinates)",
+    "edges": "edges as (k, 2) vertex pairs; the distance is to their union",
+    "region": "elements whose union is the source (faces, polygons, or boundary triangles of a tet mesh)",
+}
+
+#: Old source keywords, kept for one release: they warn and mean the new name.
+DEPRECATED_SOURCE_KEYWORDS = {
+    "face_points": "points",
+    "tet_points": "points",
+    "faces": "region",
+    "boundary_faces": "region",
+}
+
+
+def source_keywords(kinds, stacklevel=4):
+    """Source keywords in the current vocabulary: old names renamed with a ``DeprecationWarning``.
+
+    Parameters
+    ----------
+    kinds : dict
+        Keyword arguments naming sources (``vertices`` excluded).
+    stacklevel : int
+        Where the warning points (the user's call).
+
+    Returns
+    -------
+    dict
+        The same sources under the names of :data:`SOURCE_KINDS`.
+
+    Raises
+    ------
+    InvalidSourceError
+        An unknown keyword, or a kind given under its old and its new name.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     source_keywords({"faces": [3]})
+    {'region': [3]}
+    >>> caught[0].category.__name__
+    'DeprecationWarning'
+    """
+    renamed = {}
+    for name, value in kinds.items():
+        new = DEPRECATED_SOURCE_KEYWORDS.get(name, name)
+        if new not in SOURCE_KINDS or new == "vertices":
+            known = ", ".join(k for k in SOURCE_KINDS if k != "vertices")
+            raise InvalidSourceError(f"unknown source keyword {name!r}: sources are vertices (positional), {known}")
+        if new != name:
+            warnings.warn(f"the source keyword {name!r} is deprecated; use {new}=", DeprecationWarning, stacklevel=stacklevel)
+        if value is not None and renamed.get(new) is not None:
+            raise InvalidSourceError(f"{new} given twice (as {new}= and under an old name)")
+        if value is not None or new not in renamed:
+            renamed[new] = value
+    return renamed
+
+
+class PinBuilder:
+    """Collects pins and heat impulses from each source kind, then merges them into :class:`SourcePins`.
+
+    Examples
+    --------
+    >>> pins = PinBuilder(4)
+    >>> pins.add(np.array([2]))
+    >>> pins.add(np.array([1, 3]), values=np.array([0.5, 0.5]), heat_vertices=(), heat_weights=())
+    >>> built = pins.build("vertices")
+    >>> built.vertices.tolist(), built.heat.tolist()
+    ([1, 2, 3], [0.0, 0.0, 1.0, 0.0])
+    """
+
+    def __init__(self, n_vertices, heat_once=False):
+        self.n_vertices = n_vertices
+        self.heat_once = heat_once
+        self._vertices, self._values, self._heat_vertices, self._heat_weights = [], [], [], []
+
+    def add(self, vertices, values=None, heat_vertices=None, heat_weights=None):
+        """Pin operator ``vertices`` to ``values`` (default 0) and inject heat (default 1 at each of them)."""
+        vertices = np.asarray(vertices, dtype=np.int64)
+        self._vertices.append(vertices)
+        self._values.append(np.zeros(vertices.size) if values is None else np.asarray(values, dtype=float))
+        if heat_vertices is None:
+            heat_vertices, heat_weights = vertices, np.ones(vertices.size)
+        self._heat_vertices.append(np.asarray(heat_vertices, dtype=np.int64))
+        self._heat_weights.append(np.asarray(heat_weights, dtype=float))
+
+    def build(self, kinds):
+        """The merged :class:`SourcePins`; a typed error naming ``kinds`` when nothing was pinned."""
+        if sum(v.size for v in self._vertices) == 0:
+            listing = kinds if isinstance(kinds, str) else ", ".join(kinds)
+            raise InvalidSourceError(f"no source given: pass {listing} (at least one)")
+        vertices = np.concatenate(self._vertices)
+        if self.heat_once:  # unit heat once per pinned vertex, however often it was named
+            vertices = np.unique(vertices)
+            ones = np.ones(vertices.size)
+            return SourcePins.combine(self.n_vertices, vertices, np.zeros(vertices.size), vertices, ones)
+        return SourcePins.combine(
+            self.n_vertices,
+            vertices,
+            np.concatenate(self._values),
+            np.concatenate(self._heat_vertices),
+            np.concatenate(self._heat_weights),
+        )
+
+
+def build_source_pins(domain, vertices=None, **kinds):
+    """The one builder of :class:`SourcePins`: every kind of source, on any domain.
+
+    Parameters
+    ----------
+    domain : heatcore.domains.base.Domain
+        Lists the kinds it takes in ``source_kinds`` and pins each with its
+        ``_pin_KIND(value, builder)`` method.
+    vertices : int or sequence of int, optional
+        Source vertices.
+    **kinds
+        ``points``, ``edges``, ``region`` (or their deprecated old names, see
+        :data:`DEPRECATED_SOURCE_KEYWORDS`).
+
+    Returns
+    -------
+    SourcePins
+
+    Raises
+    ------
+    InvalidSourceError
+        No source, a kind the domain does not take, or what the domain's
+        ``_pin_KIND`` rejects.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from heatcore.domains import PointCloud
+    >>> build_source_pins(PointCloud(np.random.default_rng(0).random((200, 3))), [5]).values.tolist()
+    [0.0]
+    """
+    kinds = {"vertices": vertices, **source_keywords(kinds)}
+    given = [k for k, v in kinds.items() if v is not None]
+    refused = [k for k in given if k not in domain.source_kinds]
+    if refused:
+        raise InvalidSourceError(
+            f"a {domain.domain_name} takes only {', '.join(domain.source_kinds)} as sources, not {', '.join(refused)}"
+        )
+    builder = PinBuilder(domain.operators.n_vertices, heat_once=domain.unit_heat_once)
+    pin = {"vertices": domain._pin_vertices, "points": domain._pin_points, "edges": domain._pin_edges,
+           "region": domain._pin_region}
+    for kind in domain.source_kinds:
+        if kinds.get(kind) is not None:
+            pin[kind](kinds[kind], builder)
+    return builder.build(domain.source_kinds)
 
 
 def edge_list(edges, n_vertices):

@@ -41,7 +41,7 @@ import scipy.sparse as sp
 
 from ..errors import HeatcoreWarning, InvalidMeshError, InvalidSourceError
 from .base import MeshDomain
-from .sources import SourcePins, barycentric_array, index_list
+from .sources import barycentric_array, index_list
 from .validate import clean_elements, index_array, vertex_array
 from .tet_geometry import (
     FLAT_TET_TOLERANCE,
@@ -109,12 +109,14 @@ class TetMesh(MeshDomain):
     >>> mesh = TetMesh(V, [[0, 2, 1, 3]])   # negative orientation: reoriented
     >>> mesh.n_reoriented, len(mesh.boundary_faces)
     (1, 4)
-    >>> d = hc.HeatSolver(mesh).distance(tet_points=([0], [[0.25, 0.25, 0.25, 0.25]]))
+    >>> d = hc.HeatSolver(mesh).distance(points=([0], [[0.25, 0.25, 0.25, 0.25]]))
     >>> bool(np.allclose(d, np.linalg.norm(V - 0.25, axis=1)))
     True
     """
 
     element_name = "tet"
+    domain_name = "tet mesh"
+    source_kinds = ("vertices", "points", "region")
 
     def __init__(self, V, T, *, pin_neighbors=True):
         self.pin_neighbors = bool(pin_neighbors)
@@ -179,82 +181,38 @@ class TetMesh(MeshDomain):
         self._incidence = None
         self.operators = tet_operators(self._positions, self.vertex_map[oriented[kept]], boundary)
 
-    def source_pins(self, vertices=None, *, tet_points=None, boundary_faces=None):
-        """Turn a source specification into :class:`SourcePins` on the operator vertices.
+    def _pin_vertices(self, vertices, pins):
+        """Source vertices, interior or on the boundary (distance 0); with ``pin_neighbors``, their tets' vertices too."""
+        v = self._referenced(index_list(vertices, self.n_input_vertices, "vertex"))
+        pins.add(v)
+        if self.pin_neighbors:
+            nv, nd = self._neighbor_pins(v)
+            pins.add(nv, nd, (), ())
 
-        Parameters
-        ----------
-        vertices : int or sequence of int, optional
-            Source vertices, interior or on the boundary (distance 0).
-        tet_points : (tet_indices, barycentric) pair, optional
-            Points inside tets: ``tet_indices`` (k,) into ``T`` and barycentric
-            coordinates (k, 4). The tet's four vertices are pinned to their
-            straight-line distance from the point; the heat impulse is the
-            barycentric weights.
-        boundary_faces : (k, 3) array_like of int, optional
-            Faces of the boundary surface (vertex triples, any order); the
-            distance is to their union (a surface region).
+    def _pin_points(self, points, pins):
+        """Points inside tets ``(tet_indices, barycentric (k, 4))``: the tet's vertices at their straight-line distance.
 
-        Raises
-        ------
-        InvalidSourceError
-            No source given, indices out of range, unreferenced vertices, bad
-            barycentric coordinates, or triples that are not boundary faces.
-
-        Examples
-        --------
-        >>> import numpy as np
-        >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
-        >>> TetMesh(V, [[0, 1, 2, 3]]).source_pins(boundary_faces=[[0, 1, 2]]).vertices.tolist()
-        [0, 1, 2]
+        The heat impulse is the barycentric weights.
         """
-        pin_v, pin_d, heat_v, heat_w = [], [], [], []
-        if vertices is not None:
-            v = self._referenced(index_list(vertices, self.n_input_vertices, "vertex"))
-            pin_v.append(v)
-            pin_d.append(np.zeros(v.size))
-            heat_v.append(v)
-            heat_w.append(np.ones(v.size))
-            if self.pin_neighbors:
-                nv, nd = self._neighbor_pins(v)
-                pin_v.append(nv)
-                pin_d.append(nd)
-        if tet_points is not None:
-            try:
-                ti, bary = tet_points
-            except (TypeError, ValueError) as exc:
-                raise InvalidSourceError("tet_points must be a pair (tet_indices, barycentric)") from exc
-            ti = index_list(ti, self.tets.shape[0], "tet")
-            b = barycentric_array(bary, ti.size, 4)
-            corners = self.vertices[self.tets[ti]]  # (k, 4, 3)
-            points = np.einsum("kc,kcd->kd", b, corners)
-            v = self._referenced(self.tets[ti].ravel())
-            pin_v.append(v)
-            pin_d.append(np.linalg.norm(corners - points[:, None, :], axis=2).ravel())
-            heat_v.append(v)
-            heat_w.append(b.ravel())
-        if boundary_faces is not None:
-            f = np.asarray(boundary_faces)
-            if f.size and (f.ndim != 2 or f.shape[1] != 3):
-                raise InvalidSourceError(f"boundary_faces must have shape (k, 3) (vertex triples), got {f.shape}")
-            f = index_list(f.reshape(-1), self.n_input_vertices, "vertex").reshape(-1, 3)
-            self._check_boundary_faces(f)
-            v = self._referenced(np.unique(f))
-            pin_v.append(v)
-            pin_d.append(np.zeros(v.size))
-            heat_v.append(v)
-            heat_w.append(np.ones(v.size))
-        if not pin_v or sum(p.size for p in pin_v) == 0:
-            raise InvalidSourceError(
-                "no source given: pass vertex indices, tet_points or boundary_faces (at least one)"
-            )
-        return SourcePins.combine(
-            self.operators.n_vertices,
-            np.concatenate(pin_v),
-            np.concatenate(pin_d),
-            np.concatenate(heat_v),
-            np.concatenate(heat_w),
-        )
+        try:
+            ti, bary = points
+        except (TypeError, ValueError) as exc:
+            raise InvalidSourceError("points must be a pair (tet_indices, barycentric)") from exc
+        ti = index_list(ti, self.tets.shape[0], "tet")
+        b = barycentric_array(bary, ti.size, 4)
+        corners = self.vertices[self.tets[ti]]  # (k, 4, 3)
+        inside = np.einsum("kc,kcd->kd", b, corners)
+        v = self._referenced(self.tets[ti].ravel())
+        pins.add(v, np.linalg.norm(corners - inside[:, None, :], axis=2).ravel(), v, b.ravel())
+
+    def _pin_region(self, triangles, pins):
+        """Faces of the boundary surface, ``(k, 3)`` vertex triples (any order): distance 0 on their union."""
+        f = np.asarray(triangles)
+        if f.size and (f.ndim != 2 or f.shape[1] != 3):
+            raise InvalidSourceError(f"region must have shape (k, 3) (boundary vertex triples), got {f.shape}")
+        f = index_list(f.reshape(-1), self.n_input_vertices, "vertex").reshape(-1, 3)
+        self._check_boundary_faces(f)
+        pins.add(self._referenced(np.unique(f)))
 
     def _neighbor_pins(self, sources):
         """Vertices of the tets around operator vertices ``sources`` and their edge length from them."""

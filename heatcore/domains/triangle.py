@@ -32,6 +32,7 @@ from .intrinsic import (
     IntrinsicTriangulation,
     corner_cotangents,
     face_areas,
+    face_edge_lengths,
     mollify,
     triangle_slack,
 )
@@ -50,7 +51,7 @@ from .refine import (
     budgeted_levels,
     midpoint_subdivide,
 )
-from .sources import SourcePins, barycentric_array, edge_list, index_list
+from .sources import barycentric_array, edge_list, index_list
 from .validate import clean_elements, mesh_arrays
 from .weld import weld_map, weld_tolerance
 
@@ -180,6 +181,9 @@ class TriangleMesh(MeshDomain):
     """
 
     element_name = "face"
+    domain_name = "triangle mesh"
+    source_kinds = ("vertices", "edges", "region", "points")
+    supports_high_accuracy = True
 
     def __init__(self, V, F, *, robust=True, refine="auto", weld=0.0):
         self.vertices, self.faces = mesh_arrays(V, F)
@@ -268,83 +272,58 @@ class TriangleMesh(MeshDomain):
         self.n_flips = tri.flip_to_delaunay() if self.robust else 0
         return tri, eps
 
-    def source_pins(self, vertices=None, *, face_points=None, edges=None, faces=None):
-        """Turn a source specification into :class:`SourcePins` on the operator vertices.
+    def eikonal_triangles(self):
+        """The intrinsic Delaunay triangles and the (refined) mesh's own, with their lengths.
 
-        Parameters
-        ----------
-        vertices : int or sequence of int, optional
-            Source vertices (distance 0).
-        face_points : (face_indices, barycentric) pair, optional
-            Points on faces: ``face_indices`` (k,) and barycentric coordinates (k, 3).
-        edges : (k, 2) array_like of int, optional
-            Mesh edges (vertex pairs); distance to their union.
-        faces : sequence of int, optional
-            Faces; distance to their union (a selected region).
+        The ``accuracy="high"`` pass may cross either (see :mod:`heatcore.eikonal`).
 
-        Raises
-        ------
-        InvalidSourceError
-            No source given, indices out of range, unreferenced vertices, or
-            pairs that are not edges of the mesh.
+        Examples
+        --------
+        >>> import numpy as np
+        >>> faces, lengths = TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0).eikonal_triangles()
+        >>> len(faces), float(lengths[1].max().round(3))
+        (2, 1.0)
         """
-        n_ops = self.operators.n_vertices
-        sub = self.subdivision
-        pin_v, pin_d, heat_v, heat_w = [], [], [], []
+        tri, sub = self.intrinsic, self.subdivision
+        return [tri.faces, sub.faces], [tri.lengths, face_edge_lengths(sub.vertices, sub.faces)]
 
-        def pin(op_vertices, values, weights):
-            pin_v.append(op_vertices)
-            pin_d.append(values)
-            heat_v.append(op_vertices)
-            heat_w.append(weights)
+    def _pin_edges(self, edges, pins):
+        """Mesh edges (vertex pairs): their end points and the refined vertices on them, at distance 0."""
+        e = edge_list(edges, self.n_input_vertices)
+        ce = np.sort(self._referenced(e.ravel()).reshape(-1, 2), axis=1)
+        edge_id = self._edge_ids(ce, e)
+        inner = np.flatnonzero(np.isin(self.subdivision.vertex_edge, edge_id))
+        pins.add(np.r_[np.unique(ce), inner])
 
-        if vertices is not None:
-            v = index_list(vertices, self.n_input_vertices, "vertex")
-            pin(self._referenced(v), np.zeros(v.size), np.ones(v.size))
-        if edges is not None:
-            e = edge_list(edges, self.n_input_vertices)
-            ce = np.sort(self._referenced(e.ravel()).reshape(-1, 2), axis=1)
-            edge_id = self._edge_ids(ce, e)
-            inner = np.flatnonzero(np.isin(sub.vertex_edge, edge_id))
-            ends = np.unique(ce)
-            pin(np.r_[ends, inner], np.zeros(ends.size + inner.size), np.ones(ends.size + inner.size))
-        if faces is not None:
-            f = index_list(faces, self.faces.shape[0], "face")
-            corners = np.unique(self.vertex_map[self.faces[f]])
-            corners = corners[corners >= 0]  # an ignored face may have corners no kept face uses
-            inner = self._vertices_inside(f)
-            idx = np.r_[corners, inner]
-            pin(idx, np.zeros(idx.size), np.ones(idx.size))
-        if face_points is not None:
-            try:
-                fi, bary = face_points
-            except (TypeError, ValueError):
-                raise InvalidSourceError("face_points must be a pair (face indices, barycentric coordinates)") from None
-            fi = index_list(fi, self.faces.shape[0], "face")
-            b = barycentric_array(bary, fi.size, 3)
-            ignored = fi[self.face_map[fi] < 0]
-            if ignored.size:
-                raise InvalidSourceError(
-                    f"face {int(ignored[0])} was ignored (it has repeated vertices, after welding, or duplicates "
-                    "another face), so a point on it cannot be a source; use a vertex or another face"
-                )
-            for k in range(fi.size):  # a handful of points: one pin set per point
-                tri = self.vertex_map[self.faces[fi[k]]]
-                corners = sub.vertices[tri]  # in the part's unit, as every pinned distance
-                inside = np.r_[tri, self._vertices_inside(fi[k : k + 1])]
-                d = np.linalg.norm(sub.vertices[inside] - b[k] @ corners, axis=1)
-                pin_v.append(inside)
-                pin_d.append(d)
-                hv, hw = self._point_impulse(corners, self._part_levels_of(tri[0]), b[k], inside)
-                heat_v.append(hv)
-                heat_w.append(hw)
-        if not pin_v or sum(len(p) for p in pin_v) == 0:
+    def _pin_region(self, faces, pins):
+        """Faces (indices): their corners and the refined vertices inside them, at distance 0."""
+        f = index_list(faces, self.faces.shape[0], "face")
+        corners = np.unique(self.vertex_map[self.faces[f]])
+        corners = corners[corners >= 0]  # an ignored face may have corners no kept face uses
+        pins.add(np.r_[corners, self._vertices_inside(f)])
+
+    def _pin_points(self, points, pins):
+        """Points on faces ``(face_indices, barycentric)``: straight-line distances inside each face."""
+        try:
+            fi, bary = points
+        except (TypeError, ValueError):
+            raise InvalidSourceError("points must be a pair (face indices, barycentric coordinates)") from None
+        fi = index_list(fi, self.faces.shape[0], "face")
+        b = barycentric_array(bary, fi.size, 3)
+        ignored = fi[self.face_map[fi] < 0]
+        if ignored.size:
             raise InvalidSourceError(
-                "no source given: pass vertex indices, face_points, edges or faces (at least one)"
+                f"face {int(ignored[0])} was ignored (it has repeated vertices, after welding, or duplicates "
+                "another face), so a point on it cannot be a source; use a vertex or another face"
             )
-        return SourcePins.combine(
-            n_ops, np.concatenate(pin_v), np.concatenate(pin_d), np.concatenate(heat_v), np.concatenate(heat_w)
-        )
+        sub = self.subdivision
+        for k in range(fi.size):  # a handful of points: one pin set per point
+            tri = self.vertex_map[self.faces[fi[k]]]
+            corners = sub.vertices[tri]  # in the part's unit, as every pinned distance
+            inside = np.r_[tri, self._vertices_inside(fi[k : k + 1])]
+            d = np.linalg.norm(sub.vertices[inside] - b[k] @ corners, axis=1)
+            hv, hw = self._point_impulse(corners, self._part_levels_of(tri[0]), b[k], inside)
+            pins.add(inside, d, hv, hw)
 
     def _part_levels_of(self, operator_vertex):
         """Subdivision levels of the part of an input vertex (given as its operator vertex)."""
