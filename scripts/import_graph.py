@@ -441,130 +441,144 @@ def _short(module, group):
     return "/".join(rest) + ".py"
 
 
+GROUP_COLORS = {  # (box fill, arrow colour)
+    "errors": ("#ececec", "#6b6b6b"), "linalg": ("#dce9f7", "#2a6bb0"), "domains": ("#dff2df", "#2e8b3a"),
+    "solver": ("#fde9cf", "#d07a00"), "io": ("#efe1f5", "#8a4fb0"), "viz": ("#fbe0e6", "#c2456a"),
+    "api": ("#fff6c4", "#a08a00"), "apps": ("#dff1f3", "#1f8a96"), "blender_addon": ("#f3ecdc", "#8a6a2e"),
+}
+FOLDERS = {"linalg", "domains", "io", "viz", "apps", "blender_addon"}
+
+
 def draw(graph, path, title="heatcore: modules by layer"):
-    """Draw the layers as boxes listing their modules, with one arrow per pair of groups that
-    import each other (labelled with the number of module arrows); arrows that run up are red."""
+    """Draw the layer diagram: one box per group listing its modules, top layer first, and one
+    arrow per pair of groups that import each other, routed in a lane on the right (one lane per
+    importing group, in its colour); the number on an arrow counts the module-to-module imports.
+    An arrow that runs up or between siblings is drawn red and dashed."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib.patches import FancyArrowPatch, FancyBboxPatch
+    from matplotlib.patches import FancyBboxPatch, Rectangle
 
     members = {}
     for m in graph.modules:
         where = layer_of(m)
-        key = where[2] if where else "unlayered"
-        members.setdefault(key, []).append(m)
-    for names in members.values():
-        names.sort(key=lambda m: (not m.endswith(("__init__", "heatcore", "blender_addon")) and
-                                  _short(m, "") != "__init__.py", m))
+        members.setdefault(where[2] if where else "unlayered", []).append(m)
 
-    # geometry: each layer a band; sibling groups side by side
-    width, gap_x, row_h, pad, band_gap = 12.0, 0.5, 0.27, 0.28, 0.75
-    packages_in = {}
-    boxes, y = {}, 0.0
-    for rank, (layer, groups) in enumerate(LAYERS):
-        present = [(g, d, p) for g, d, p in groups if members.get(g)]
-        if not present:
-            continue
-        n = len(present)
-        box_w = (width - gap_x * (n - 1)) / n
-        heights = []
-        layouts = []
-        for group, desc, _ in present:
-            names = [_short(m, group) for m in sorted(members[group])]
-            ncols = max(1, min(4, int(box_w // 2.6)))
-            nrows = -(-len(names) // ncols)
-            heights.append(pad * 2 + 0.42 + nrows * row_h)
-            layouts.append((names, ncols, nrows))
-            packages_in[group] = len(names)
-        h = max(heights)
-        for i, ((group, desc, _), (names, ncols, nrows)) in enumerate(zip(present, layouts)):
-            x0 = i * (box_w + gap_x)
-            boxes[group] = dict(x=x0, y=y, w=box_w, h=h, names=names, ncols=ncols, desc=desc,
-                                layer=layer, rank=rank)
-        y += h + band_gap
-    total_h = y - band_gap
+    # rows: groups top to bottom (top layer first); siblings on consecutive rows
+    rows = []
+    for rank, (layer, groups) in reversed(list(enumerate(LAYERS))):
+        for group, desc, _ in groups:
+            if members.get(group):
+                rows.append(dict(group=group, desc=desc, layer=layer, rank=rank,
+                                 names=sorted((_short(m, group) for m in members[group]),
+                                              key=lambda s: (s != "__init__.py", s))))
+    if members.get("unlayered"):
+        rows.append(dict(group="unlayered", desc="no layer claims these modules", layer="?", rank=-1,
+                         names=sorted(members["unlayered"])))
 
-    fig_h = total_h * 0.62 + 1.3
-    fig, ax = plt.subplots(figsize=(13.5, fig_h))
-    ax.set_xlim(-2.3, width + 0.2)
-    ax.set_ylim(-0.35, total_h + 0.55)
-    ax.axis("off")
-    colors = {
-        "errors": "#e8e8e8", "linalg": "#dce9f7", "domains": "#dff2df", "solver": "#fde9cf",
-        "io": "#efe1f5", "viz": "#fbe0e6", "api": "#fff6c4", "apps": "#e0f1f3", "blender_addon": "#f3ecdc",
-    }
-    labelled = set()
-    for group, b in boxes.items():
-        ax.add_patch(FancyBboxPatch((b["x"], b["y"]), b["w"], b["h"], boxstyle="round,pad=0.02,rounding_size=0.12",
-                                    fc=colors.get(group, "#eeeeee"), ec="#555555", lw=1.2, zorder=1))
-        header = group + ("/" if group in {"linalg", "domains", "io", "viz", "apps", "blender_addon"} else "")
-        ax.text(b["x"] + 0.15, b["y"] + b["h"] - 0.2, header, fontsize=11.5, fontweight="bold",
-                va="top", ha="left", zorder=3)
-        ax.text(b["x"] + 0.15 + 0.115 * len(header) + 0.25, b["y"] + b["h"] - 0.23, b["desc"], fontsize=8.5,
-                va="top", ha="left", color="#444444", style="italic", zorder=3)
-        col_w = (b["w"] - 0.3) / b["ncols"]
-        nrows = -(-len(b["names"]) // b["ncols"])
-        for k, name in enumerate(b["names"]):
-            c, r = divmod(k, nrows)
-            ax.text(b["x"] + 0.25 + c * col_w, b["y"] + b["h"] - 0.72 - r * row_h, name, fontsize=9,
-                    family="monospace", va="center", ha="left", zorder=3)
-        if b["layer"] not in labelled:
-            labelled.add(b["layer"])
-            ax.text(-0.25, b["y"] + b["h"] / 2, b["layer"], fontsize=10.5, ha="right", va="center",
-                    color="#333333", fontweight="bold")
-
-    # arrows between groups
     counts = {}
-    for (a, b_) in graph.edges:
-        la, lb = layer_of(a), layer_of(b_)
+    for a, b in graph.edges:
+        la, lb = layer_of(a), layer_of(b)
         ga, gb = (la[2] if la else "unlayered"), (lb[2] if lb else "unlayered")
-        if ga != gb and ga in boxes and gb in boxes:
+        if ga != gb:
             counts[(ga, gb)] = counts.get((ga, gb), 0) + 1
-    bad = {(la[2], lb[2]) for a, b_, _, _ in upward_arrows(graph)
-           for la, lb in [(layer_of(a), layer_of(b_))]}
-    # spread arrow ends along each box edge so arrows do not overlap
-    out_edges, in_edges = {}, {}
-    for (ga, gb) in sorted(counts, key=lambda e: (boxes[e[1]]["x"], boxes[e[1]]["rank"])):
-        out_edges.setdefault(ga, []).append((ga, gb))
-    for (ga, gb) in sorted(counts, key=lambda e: (boxes[e[0]]["x"], -boxes[e[0]]["rank"])):
-        in_edges.setdefault(gb, []).append((ga, gb))
+    bad = set()
+    for a, b, _, _ in upward_arrows(graph):
+        bad.add((layer_of(a)[2], layer_of(b)[2]))
 
-    def slot(box, edges, edge):
-        i, n = edges.index(edge), len(edges)
-        return box["x"] + box["w"] * (0.12 + 0.76 * (i + 0.5) / n)
+    box_x, box_w, ncols, row_h, head_h, pad, gap = 0.0, 9.2, 4, 0.28, 0.62, 0.12, 0.34
+    fan_in = {}
+    for _, gb in counts:
+        fan_in[gb] = fan_in.get(gb, 0) + 1
+    y = 0.0
+    for r in rows:
+        nrows = -(-len(r["names"]) // ncols)
+        r["h"] = max(head_h + nrows * row_h + pad, 0.27 * (fan_in.get(r["group"], 0) + 1))
+        r["top"] = -y
+        r["y"] = -y - r["h"]
+        y += r["h"] + gap
+    bottom = -y + gap
+    index = {r["group"]: r for r in rows}
 
-    for (ga, gb), n in sorted(counts.items()):
-        A, B = boxes[ga], boxes[gb]
-        upward = B["rank"] > A["rank"] or (ga, gb) in bad
-        x1, x2 = slot(A, out_edges[ga], (ga, gb)), slot(B, in_edges[gb], (ga, gb))
-        if B["rank"] < A["rank"]:
-            y1, y2 = A["y"], B["y"] + B["h"]
-        elif B["rank"] > A["rank"]:
-            y1, y2 = A["y"] + A["h"], B["y"]
-        else:  # siblings
-            y1 = y2 = A["y"] + A["h"] / 2
-            x1 = A["x"] + (A["w"] if B["x"] > A["x"] else 0)
-            x2 = B["x"] + (0 if B["x"] > A["x"] else B["w"])
-        skip = abs(B["rank"] - A["rank"]) > 1
-        color = "#cc0000" if upward else ("#1f4e79" if not skip else "#5b7fa6")
-        arrow = FancyArrowPatch((x1, y1), (x2, y2), arrowstyle="-|>", mutation_scale=14, lw=1.4,
-                                color=color, zorder=4 if not upward else 5,
-                                connectionstyle="arc3,rad=0.0", shrinkA=1, shrinkB=1)
-        ax.add_patch(arrow)
-        t = 0.5 if not skip else 0.22
-        ax.text(x1 + (x2 - x1) * t, y1 + (y2 - y1) * t, str(n), fontsize=8, ha="center", va="center",
-                color=color, zorder=6, bbox=dict(boxstyle="round,pad=0.12", fc="white", ec=color, lw=0.6))
+    sources = [r["group"] for r in rows if any(ga == r["group"] for ga, _ in counts)]
+    lane_gap = 0.34
+    lane_x = {g: box_x + box_w + 0.35 + lane_gap * (len(sources) - 1 - i) for i, g in enumerate(sources)}
+    right = box_x + box_w + 0.35 + lane_gap * len(sources) + 0.1
+
+    fig_h = (-bottom) * 0.55 + 1.4
+    fig, ax = plt.subplots(figsize=(12.5, fig_h))
+    ax.set_xlim(-2.1, right + 0.1)
+    ax.set_ylim(bottom - 0.45, 0.75)
+    ax.axis("off")
+
+    # layer bands and labels (a band holds the rows of one layer)
+    layers_seen = []
+    for r in rows:
+        if not layers_seen or layers_seen[-1][0] != r["layer"]:
+            layers_seen.append([r["layer"], r["top"], r["y"]])
+        else:
+            layers_seen[-1][2] = r["y"]
+    for k, (layer, top, low) in enumerate(layers_seen):
+        ax.add_patch(Rectangle((-2.05, low - 0.1), box_w + 2.1, top - low + 0.2, fc="#f7f7f7" if k % 2 else "white",
+                               ec="none", zorder=0))
+        siblings = sum(1 for r in rows if r["layer"] == layer) > 1
+        ax.text(-1.95, (top + low) / 2, layer + ("\n(siblings)" if siblings else ""), fontsize=10.5, ha="left",
+                va="center", fontweight="bold", color="#333333", linespacing=1.3)
+
+    for r in rows:
+        fill, _ = GROUP_COLORS.get(r["group"], ("#ffdddd", "#cc0000"))
+        ax.add_patch(FancyBboxPatch((box_x, r["y"]), box_w, r["h"], boxstyle="round,pad=0,rounding_size=0.1",
+                                    fc=fill, ec="#555555", lw=1.1, zorder=2))
+        header = r["group"] + ("/" if r["group"] in FOLDERS else "")
+        ax.text(box_x + 0.15, r["top"] - 0.08, header, fontsize=11, fontweight="bold", va="top", ha="left", zorder=3)
+        ax.text(box_x + box_w - 0.15, r["top"] - 0.1, r["desc"], fontsize=8.5, va="top",
+                ha="right", color="#444444", style="italic", zorder=3)
+        nrows = -(-len(r["names"]) // ncols)
+        col_w = (box_w - 0.3) / ncols
+        for k, name in enumerate(r["names"]):
+            c, q = divmod(k, nrows)
+            ax.text(box_x + 0.3 + c * col_w, r["top"] - head_h - q * row_h, name, fontsize=8.6,
+                    family="monospace", va="center", ha="left", zorder=3)
+
+    # arrows: out of the importer's right side into its lane, down (or up) the lane, into the target
+    entries = {}
+    for src in sources:
+        for (ga, gb) in counts:
+            if ga == src:
+                entries.setdefault(gb, []).append(src)
+    for g in entries:  # entry points spread along the target's right edge, far lanes lowest
+        entries[g].sort(key=lambda s: lane_x[s])
+    for src in sources:
+        R = index[src]
+        _, color = GROUP_COLORS.get(src, ("", "#cc0000"))
+        x = lane_x[src]
+        y0 = R["y"] + min(0.16, R["h"] / 4)
+        targets = [gb for (ga, gb) in counts if ga == src]
+        ys = []
+        for gb in targets:
+            T = index[gb]
+            k, n = entries[gb].index(src), len(entries[gb])
+            ys.append(T["top"] - T["h"] * (k + 1) / (n + 1))
+        ax.plot([box_x + box_w, x], [y0, y0], color=color, lw=1.6, zorder=4, solid_capstyle="round")
+        ax.plot([x, x], [min(ys + [y0]), max(ys + [y0])], color=color, lw=1.6, zorder=4)
+        for gb, ty in zip(targets, ys):
+            up = (src, gb) in bad or index[gb]["rank"] > R["rank"]
+            c = "#cc0000" if up else color
+            ax.annotate("", xy=(box_x + box_w + 0.02, ty), xytext=(x, ty),
+                        arrowprops=dict(arrowstyle="-|>", color=c, lw=1.4, mutation_scale=11,
+                                        linestyle="--" if up else "-", shrinkA=0, shrinkB=0), zorder=5)
+            ax.text(box_x + box_w + 0.2, ty + 0.045, str(counts[(src, gb)]), fontsize=7.5, color=c,
+                    ha="center", va="bottom", zorder=6)
 
     s = summary(graph)
-    ax.text(-2.3, total_h + 0.45, title, fontsize=14, fontweight="bold", va="bottom")
-    ax.text(width + 0.2, total_h + 0.45,
-            f"{s['modules']} modules, {s['edges']} imports; {len(s['cycles'])} cycles, "
-            f"{len(s['upward'])} upward", fontsize=9.5, ha="right", va="bottom", color="#333333")
-    ax.text(-2.3, -0.3, "An arrow runs from the importing group to the imported one; its number counts "
-            "module-to-module imports. Arrows run down, never up (red) nor between siblings.",
-            fontsize=8.5, color="#444444", va="top")
+    ax.text(-2.05, 0.65, title, fontsize=14, fontweight="bold", va="top")
+    ax.text(right, 0.62, f"{s['modules']} modules, {s['edges']} import arrows, {len(s['cycles'])} cycles, "
+            f"{len(s['upward'])} upward arrows", fontsize=9.5, ha="right", va="top", color="#333333")
+    ax.text(-2.05, bottom - 0.2, "Each importing group has one coloured lane on the right; its arrows point at the "
+            "groups it imports, the number counts module-to-module imports.\nImports run down the layers only; "
+            "siblings do not import each other. An arrow up or sideways would be red and dashed.",
+            fontsize=8.5, color="#444444", va="top", linespacing=1.4)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110, bbox_inches="tight", facecolor="white")
