@@ -45,6 +45,12 @@ def face_edge_lengths(V, F):
     Returns
     -------
     (m, 3) float array
+
+    Examples
+    --------
+    >>> V = np.array([[0, 0, 0], [3, 0, 0], [0, 4, 0]], float)
+    >>> face_edge_lengths(V, np.array([[0, 1, 2]])).tolist()
+    [[5.0, 4.0, 3.0]]
     """
     P = V[F]
     return np.linalg.norm(P[:, PREV] - P[:, NEXT], axis=2)
@@ -60,6 +66,11 @@ def face_areas(lengths):
     Returns
     -------
     (m,) float array; 0 where the lengths violate the triangle inequality.
+
+    Examples
+    --------
+    >>> face_areas(np.array([[5.0, 4.0, 3.0], [1.0, 1.0, 3.0]])).tolist()
+    [6.0, 0.0]
     """
     x, y, z = lengths[:, 0], lengths[:, 1], lengths[:, 2]
     lo_xy, hi_xy = np.minimum(x, y), np.maximum(x, y)
@@ -83,6 +94,11 @@ def corner_cotangents(lengths, areas=None):
     Returns
     -------
     (m, 3) float array
+
+    Examples
+    --------
+    >>> corner_cotangents(np.array([[5.0, 4.0, 3.0]])).round(4).tolist()
+    [[0.0, 0.75, 1.3333]]
     """
     if areas is None:
         areas = face_areas(lengths)
@@ -153,6 +169,19 @@ class IntrinsicTriangulation:
     faces : (m, 3) int array
     lengths : (m, 3) float array, column ``c`` opposite corner ``c``
     twin : (3 m,) int array
+
+    Examples
+    --------
+    Two flat triangles on a long shared edge (0-1) whose opposite angles are obtuse:
+
+    >>> V = np.array([[-1, 0, 0], [1, 0, 0], [0, 0.2, 0], [0, -0.2, 0]], float)
+    >>> tri = IntrinsicTriangulation.from_mesh(V, np.array([[0, 1, 2], [1, 0, 3]]))
+    >>> tri.twin.tolist()
+    [-1, -1, 5, -1, -1, 2]
+    >>> tri.flip_to_delaunay(), tri.faces.tolist()
+    (1, [[3, 1, 2], [2, 0, 3]])
+    >>> tri.lengths[0].round(3).tolist()   # the new edge 2-3 is 0.4 long
+    [1.02, 0.4, 1.02]
     """
 
     faces: np.ndarray
@@ -278,6 +307,11 @@ def halfedge_twins(F, side_edge=None):
     Returns
     -------
     (3 m,) int array
+
+    Examples
+    --------
+    >>> halfedge_twins(np.array([[0, 1, 2], [0, 2, 3]])).tolist()   # edge 0-2: half-edges 1 and 5
+    [-1, 5, -1, -1, -1, 1]
     """
     tail = F[:, NEXT].ravel()
     head = F[:, PREV].ravel()

@@ -40,6 +40,15 @@ class Operators:
         units of ``2**unit_exponent`` input units (see :mod:`heatcore.domains.parts`),
         so a distance ``d`` on them is ``np.ldexp(d, unit_exponent)`` in the
         input's units. 0 for domains built in the input's units.
+
+    Examples
+    --------
+    >>> from heatcore import TriangleMesh
+    >>> ops = TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0).operators
+    >>> ops.laplacian.shape, ops.mass.shape, ops.gradient.shape, ops.dim
+    ((3, 3), (3,), (2, 3), 2)
+    >>> ops.divergence(np.array([[1.0, 0.0]])).round(3).tolist()
+    [0.612, -0.612, -0.0]
     """
 
     laplacian: sp.spmatrix

@@ -124,6 +124,12 @@ def crossing_polygons(X, offsets, corners):
     list of ``(polygon, (side_a, side_b))``
         Side ``i`` runs from corner ``i`` to corner ``i + 1``; empty when every
         polygon is simple. Triangles never cross.
+
+    Examples
+    --------
+    >>> X = np.array([[0, 0, 0], [1, 1, 0], [1, 0, 0], [0, 1, 0]], float)   # a bowtie
+    >>> crossing_polygons(X, np.array([0, 4]), np.array([0, 1, 2, 3]))
+    [(0, (0, 2))]
     """
     sizes = np.diff(offsets)
     found = []

@@ -106,6 +106,13 @@ class Subdivision:
     vertex_face : (n',) int array, input face a vertex lies strictly inside, or -1.
     mesh_edges : (k', 2) int array, the unique edges of the subdivided mesh.
     side_edge : (m', 3) int array, edge id (into ``mesh_edges``) of each face side.
+
+    Examples
+    --------
+    >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+    >>> sub = midpoint_subdivide(V, np.array([[0, 1, 2]]), 1)
+    >>> sub.vertices.shape, sub.faces.shape, sub.vertex_edge.tolist()
+    ((6, 3), (4, 3), [-1, -1, -1, 0, 1, 2])
     """
 
     vertices: np.ndarray
@@ -146,6 +153,12 @@ def unique_edges(F):
     -------
     edges : (k, 2) int array of sorted vertex pairs
     side_edge : (m, 3) int array, edge id of the side opposite each corner
+
+    Examples
+    --------
+    >>> edges, side_edge = unique_edges(np.array([[0, 1, 2], [0, 2, 3]]))
+    >>> edges.tolist(), side_edge.tolist()
+    ([[0, 1], [0, 2], [0, 3], [1, 2], [2, 3]], [[3, 1, 0], [4, 2, 1]])
     """
     a = F[:, [1, 2, 0]].ravel()
     b = F[:, [2, 0, 1]].ravel()

@@ -15,7 +15,28 @@ from ..errors import HeatcoreWarning, InvalidMeshError
 
 
 def vertex_array(V, name="V"):
-    """Vertex positions as a finite ``(n, 3)`` float64 array (``(n, 2)`` is padded with z = 0)."""
+    """Vertex positions as a finite ``(n, 3)`` float64 array (``(n, 2)`` is padded with z = 0).
+
+    Parameters
+    ----------
+    V : (n, 3) or (n, 2) array_like of float
+    name : str, default "V"
+        The array's name in error messages.
+
+    Returns
+    -------
+    (n, 3) float64 array
+
+    Raises
+    ------
+    InvalidMeshError
+        Not numeric, a wrong shape, no vertices, or NaN/inf coordinates.
+
+    Examples
+    --------
+    >>> vertex_array([[0, 0], [1, 2]]).tolist()
+    [[0.0, 0.0, 0.0], [1.0, 2.0, 0.0]]
+    """
     try:
         V = np.array(V, dtype=np.float64)
     except (TypeError, ValueError) as exc:
@@ -88,6 +109,12 @@ def mesh_arrays(V, F):
     ------
     InvalidMeshError
         Wrong shapes, non-finite coordinates, out-of-range or negative indices.
+
+    Examples
+    --------
+    >>> V, F = mesh_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+    >>> V.dtype, F.dtype
+    (dtype('float64'), dtype('int64'))
     """
     V = vertex_array(V)
     F = index_array(F, V.shape[0], 3)
@@ -117,10 +144,20 @@ def clean_elements(E, element="face"):
     Parameters
     ----------
     E : (m, k) int array
+    element : str, default "face"
+        What an element is called in the warning.
 
     Returns
     -------
     kept : (m,) bool array
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings():
+    ...     warnings.simplefilter("ignore")
+    ...     clean_elements(np.array([[0, 1, 2], [2, 1, 0], [0, 0, 1]])).tolist()
+    [True, False, False]
     """
     S = np.sort(E, axis=1)
     repeated = (S[:, 1:] == S[:, :-1]).any(axis=1)
