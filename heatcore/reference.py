@@ -26,6 +26,12 @@ def exact_distance(V, F, sources):
     Returns
     -------
     (n,) float array
+
+    Examples
+    --------
+    >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
+    >>> exact_distance(V, np.array([[0, 1, 2], [1, 3, 2]], dtype=np.int32), [0]).round(4).tolist()
+    [0.0, 1.0, 1.0, 1.4142]
     """
     import gdist
 
@@ -43,6 +49,23 @@ def exact_distance(V, F, sources):
 
 
 def mean_relative_error(d, exact):
-    """Mean of ``|d - exact| / exact`` over vertices with finite exact distance > 0."""
+    """Mean of ``|d - exact| / exact`` over vertices with finite exact distance > 0.
+
+    Parameters
+    ----------
+    d : (n,) float array
+        Distances to judge.
+    exact : (n,) float array
+        Reference distances; vertices where it is 0 (sources) or not finite are skipped.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> round(mean_relative_error(np.array([0.0, 1.1, 1.8, 5.0]), np.array([0.0, 1.0, 2.0, np.inf])), 6)
+    0.1
+    """
     mask = np.isfinite(exact) & (exact > 0)
     return float(np.mean(np.abs(d[mask] - exact[mask]) / exact[mask]))

@@ -404,8 +404,8 @@ def summary(graph):
 def report(graph, title):
     """The figures as text."""
     s = summary(graph)
-    out = [f"{title}: {s['modules']} modules, {s['edges']} import arrows, "
-           f"{len(s['cycles'])} cycles, {len(s['upward'])} upward arrows"]
+    out = [(f"{title}: {s['modules']} modules, {s['edges']} import arrows, "
+            f"{len(s['cycles'])} cycles, {len(s['upward'])} upward arrows")]
     out.append("cycles:" if s["cycles"] else "cycles: none")
     out += ["  " + " -> ".join(c + [c[0]]) for c in s["cycles"]]
     out.append("upward arrows:" if s["upward"] else "upward arrows: none")
@@ -470,12 +470,12 @@ def draw(graph, path, title="heatcore: modules by layer"):
     for rank, (layer, groups) in reversed(list(enumerate(LAYERS))):
         for group, desc, _ in groups:
             if members.get(group):
-                rows.append(dict(group=group, desc=desc, layer=layer, rank=rank,
-                                 names=sorted((_short(m, group) for m in members[group]),
-                                              key=lambda s: (s != "__init__.py", s))))
+                rows.append({"group": group, "desc": desc, "layer": layer, "rank": rank,
+                             "names": sorted((_short(m, group) for m in members[group]),
+                                             key=lambda s: (s != "__init__.py", s))})
     if members.get("unlayered"):
-        rows.append(dict(group="unlayered", desc="no layer claims these modules", layer="?", rank=-1,
-                         names=sorted(members["unlayered"])))
+        rows.append({"group": "unlayered", "desc": "no layer claims these modules", "layer": "?", "rank": -1,
+                     "names": sorted(members["unlayered"])})
 
     counts = {}
     for a, b in graph.edges:
@@ -547,8 +547,8 @@ def draw(graph, path, title="heatcore: modules by layer"):
         for (ga, gb) in counts:
             if ga == src:
                 entries.setdefault(gb, []).append(src)
-    for g in entries:  # entry points spread along the target's right edge, far lanes lowest
-        entries[g].sort(key=lambda s: lane_x[s])
+    for importers in entries.values():  # entry points spread along the target's right edge, far lanes lowest
+        importers.sort(key=lambda s: lane_x[s])
     for src in sources:
         R = index[src]
         _, color = GROUP_COLORS.get(src, ("", "#cc0000"))
@@ -566,8 +566,8 @@ def draw(graph, path, title="heatcore: modules by layer"):
             up = (src, gb) in bad or index[gb]["rank"] > R["rank"]
             c = "#cc0000" if up else color
             ax.annotate("", xy=(box_x + box_w + 0.02, ty), xytext=(x, ty),
-                        arrowprops=dict(arrowstyle="-|>", color=c, lw=1.4, mutation_scale=11,
-                                        linestyle="--" if up else "-", shrinkA=0, shrinkB=0), zorder=5)
+                        arrowprops={"arrowstyle": "-|>", "color": c, "lw": 1.4, "mutation_scale": 11,
+                                    "linestyle": "--" if up else "-", "shrinkA": 0, "shrinkB": 0}, zorder=5)
             ax.text(box_x + box_w + 0.2, ty + 0.045, str(counts[(src, gb)]), fontsize=7.5, color=c,
                     ha="center", va="bottom", zorder=6)
 

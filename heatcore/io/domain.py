@@ -43,6 +43,13 @@ class DomainFile:
         normals (or None) for points.
     selection : (k,) int array
         Vertices selected in a MeshLab PLY (empty when none).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> f = DomainFile("triangle", np.eye(3), np.array([[0, 1, 2]]), np.array([[0, 1, 2]]))
+    >>> type(f.domain(refine=0)).__name__, f.selected_vertices().tolist()
+    ('TriangleMesh', [])
     """
 
     kind: str
@@ -92,6 +99,23 @@ def read_domain(path, kind="auto"):
     Returns
     -------
     DomainFile
+
+    Raises
+    ------
+    InvalidOptionError
+        An unknown ``kind``.
+    InvalidMeshError
+        A missing, empty or unreadable file (:class:`~heatcore.errors.NoFacesError`
+        for a surface file without faces, with a kind other than "auto" or "points").
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "three.xyz"
+    >>> _ = path.write_text("0 0 0\\n1 0 0\\n0 1 0\\n")
+    >>> f = read_domain(path)
+    >>> f.kind, f.vertices.shape, f.surface
+    ('points', (3, 3), None)
     """
     if kind not in DOMAIN_KINDS:
         raise InvalidOptionError(f"domain kind must be one of {DOMAIN_KINDS}, got {kind!r}")

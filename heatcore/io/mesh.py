@@ -33,7 +33,25 @@ TRIMESH_SUFFIXES = {".obj", ".off", ".stl", ".glb", ".gltf"}
 
 
 def check_not_empty(path):
-    """Raise :class:`InvalidMeshError` when ``path`` is missing or holds 0 bytes."""
+    """Raise :class:`InvalidMeshError` when ``path`` is missing or holds 0 bytes.
+
+    Parameters
+    ----------
+    path : str or path-like
+
+    Raises
+    ------
+    InvalidMeshError
+        No such file, or an empty one.
+
+    Examples
+    --------
+    >>> check_not_empty(demo_mesh_path())
+    >>> check_not_empty("no/such/file.obj")
+    Traceback (most recent call last):
+    ...
+    heatcore.errors.InvalidMeshError: mesh file not found: no/such/file.obj
+    """
     path = Path(path)
     if not path.is_file():
         raise InvalidMeshError(f"mesh file not found: {path}")
@@ -50,6 +68,12 @@ class SurfaceMesh:
     vertices : (n, 3) float array
     faces : (m, 3) int array, triangles (polygons fan-triangulated)
     vertex_data : dict of (n,) arrays, extra per-vertex properties (PLY)
+
+    Examples
+    --------
+    >>> mesh = SurfaceMesh(np.eye(3), np.array([[0, 1, 2]]), {"flags": np.array([0, 0x20, 0])})
+    >>> mesh.selected_vertices().tolist()
+    [1]
     """
 
     vertices: np.ndarray
@@ -65,12 +89,34 @@ class SurfaceMesh:
 
 
 def demo_mesh_path():
-    """Path of the bundled demo mesh (spot, Keenan Crane, public domain)."""
+    """Path of the bundled demo mesh (spot, Keenan Crane, public domain).
+
+    Returns
+    -------
+    pathlib.Path
+
+    Examples
+    --------
+    >>> demo_mesh_path().name
+    'spot.obj'
+    """
     return Path(str(resources.files("heatcore") / "data" / "spot.obj"))
 
 
 def load_demo_mesh():
-    """Vertices and faces of the bundled demo mesh."""
+    """Vertices and faces of the bundled demo mesh.
+
+    Returns
+    -------
+    V : (n, 3) float array
+    F : (m, 3) int array
+
+    Examples
+    --------
+    >>> V, F = load_demo_mesh()
+    >>> V.shape, F.shape
+    ((2930, 3), (5856, 3))
+    """
     mesh = read_mesh(demo_mesh_path())
     return mesh.vertices, mesh.faces
 
@@ -86,6 +132,21 @@ def read_mesh(path):
     Returns
     -------
     SurfaceMesh
+
+    Raises
+    ------
+    InvalidMeshError
+        A missing, empty or unreadable file; :class:`~heatcore.errors.NoFacesError`
+        when it holds vertices but no faces.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "tri.obj"
+    >>> _ = path.write_text("v 0 0 0\\nv 1 0 0\\nv 0 1 0\\nf 1 2 3\\n")
+    >>> mesh = read_mesh(path)
+    >>> mesh.vertices.shape, mesh.faces.tolist()
+    ((3, 3), [[0, 1, 2]])
     """
     path = Path(path)
     check_not_empty(path)
@@ -178,6 +239,16 @@ def write_ply(path, V, F, quality, colors, selection=None):
     colors : (n, 3) uint8 array
     selection : (k,) int array, optional
         Vertices to flag as selected (MeshLab's ``flags`` bit).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "d.ply"
+    >>> V, F = np.eye(3), np.array([[0, 1, 2]])
+    >>> write_ply(path, V, F, [0.0, 1.0, 1.0], np.zeros((3, 3)), selection=[0])
+    >>> mesh = read_mesh(path)
+    >>> mesh.vertex_data["quality"].tolist(), mesh.selected_vertices().tolist()
+    ([0.0, 1.0, 1.0], [0])
     """
     import meshio
 

@@ -39,12 +39,46 @@ PLY_TYPES = {
 
 
 class Element(NamedTuple):
+    """One ``element`` of a PLY header.
+
+    Attributes
+    ----------
+    name : str
+    count : int
+        Number of rows.
+    properties : list
+        ``(name, code)`` for scalars, ``(name, count code, item code)`` for
+        lists (numpy type codes without byte order).
+
+    Examples
+    --------
+    >>> Element("vertex", 3, [("x", "f4"), ("y", "f4"), ("z", "f4")]).count
+    3
+    """
+
     name: str
     count: int
     properties: list  # (name, code) for scalars, (name, count code, item code) for lists
 
 
 class Header(NamedTuple):
+    """A parsed PLY header (see :func:`read_header`).
+
+    Attributes
+    ----------
+    format : str
+        "ascii", "binary_little_endian" or "binary_big_endian".
+    elements : list of Element
+        In file order.
+    size : int
+        Bytes up to and including the ``end_header`` line.
+
+    Examples
+    --------
+    >>> Header("ascii", [Element("vertex", 3, []), Element("face", 1, [])], 80).counts()
+    {'vertex': 3, 'face': 1}
+    """
+
     format: str  # "ascii", "binary_little_endian" or "binary_big_endian"
     elements: list
     size: int  # bytes up to and including the end_header line
@@ -124,10 +158,31 @@ def read_elements(path, header=None):
     Scalar properties are ``(count,)`` arrays; list properties are lists of
     arrays (one per row).
 
+    Parameters
+    ----------
+    path : str or path-like
+    header : Header, optional
+        Already parsed (:func:`read_header`).
+
+    Returns
+    -------
+    dict of {str: dict of {str: array or list of arrays}}
+
     Raises
     ------
     InvalidMeshError
         The data ends before the header's elements do.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "e.ply"
+    >>> _ = path.write_text("ply\\nformat ascii 1.0\\nelement vertex 2\\nproperty float x\\n"
+    ...                     "element face 1\\nproperty list uchar int vertex_indices\\nend_header\\n"
+    ...                     "0.5\\n2\\n3 0 1 1\\n")
+    >>> elements = read_elements(path)
+    >>> elements["vertex"]["x"].tolist(), [row.tolist() for row in elements["face"]["vertex_indices"]]
+    ([0.5, 2.0], [[0, 1, 1]])
     """
     path = Path(path)
     header = header or read_header(path)
@@ -255,6 +310,18 @@ def read_tristrips(path, header=None):
     InvalidMeshError
         No ``x y z`` vertex properties, no ``vertex_indices`` list, no triangle,
         or data that does not match the header.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "strip.ply"
+    >>> _ = path.write_text(
+    ...     "ply\\nformat ascii 1.0\\nelement vertex 4\\nproperty float x\\nproperty float y\\n"
+    ...     "property float z\\nelement tristrips 1\\nproperty list int int vertex_indices\\nend_header\\n"
+    ...     "0 0 0\\n1 0 0\\n0 1 0\\n1 1 0\\n4 0 1 2 3\\n")
+    >>> V, F, data = read_tristrips(path)
+    >>> V.shape, F.tolist(), data
+    ((4, 3), [[0, 1, 2], [2, 1, 3]], {})
     """
     path = Path(path)
     elements = read_elements(path, header)

@@ -33,6 +33,12 @@ class PointCloudFile:
     ----------
     points : (n, 3) float array
     normals : (n, 3) float array or None
+
+    Examples
+    --------
+    >>> cloud = PointCloudFile(np.zeros((4, 3)))
+    >>> cloud.points.shape, cloud.normals is None
+    ((4, 3), True)
     """
 
     points: np.ndarray

@@ -45,6 +45,12 @@ class PolygonSurface:
     offsets : (m + 1,) int array
         Polygon ``p`` is ``indices[offsets[p]:offsets[p + 1]]``.
     indices : (offsets[-1],) int array
+
+    Examples
+    --------
+    >>> mesh = PolygonSurface(np.zeros((5, 3)), np.array([0, 4, 7]), np.array([0, 1, 2, 3, 1, 4, 2]))
+    >>> mesh.polygon_sizes.tolist(), [p.tolist() for p in mesh.polygon_list()]
+    ([4, 3], [[0, 1, 2, 3], [1, 4, 2]])
     """
 
     vertices: np.ndarray
@@ -82,6 +88,14 @@ def read_polygon_mesh(path):
     ------
     InvalidMeshError
         Missing file, a file no reader accepts, or a file without polygons.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "quad.off"
+    >>> _ = path.write_text("OFF\\n4 1 0\\n0 0 0\\n1 0 0\\n1 1 0\\n0 1 0\\n4 0 1 2 3\\n")
+    >>> read_polygon_mesh(path).polygon_sizes.tolist()
+    [4]
     """
     path = Path(path)
     if not path.is_file():

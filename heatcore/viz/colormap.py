@@ -219,6 +219,11 @@ def colorize(distance, colormap="viridis", isolines=0, vmax=None, stripe_width=0
     Returns
     -------
     (n, 3) float array
+
+    Examples
+    --------
+    >>> colorize(np.array([0.0, 1.0, np.inf])).round(3).tolist()
+    [[0.267, 0.005, 0.329], [0.993, 0.906, 0.144], [0.5, 0.5, 0.5]]
     """
     if colormap not in COLORMAPS:
         raise InvalidOptionError(f"unknown colormap {colormap!r}; choose one of {sorted(COLORMAPS)}")
@@ -244,5 +249,20 @@ def colorize(distance, colormap="viridis", isolines=0, vmax=None, stripe_width=0
 
 
 def to_uint8(rgb):
-    """Colors in [0, 1] as 8-bit values."""
+    """Colors in [0, 1] as 8-bit values.
+
+    Parameters
+    ----------
+    rgb : (n, 3) float array
+        Colors; values outside [0, 1] are clipped.
+
+    Returns
+    -------
+    (n, 3) uint8 array
+
+    Examples
+    --------
+    >>> to_uint8(np.array([[0.0, 0.5, 1.2]])).tolist()
+    [[0, 128, 255]]
+    """
     return np.round(np.clip(rgb, 0.0, 1.0) * 255).astype(np.uint8)

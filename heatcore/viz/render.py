@@ -43,6 +43,15 @@ def camera_rotation(elevation, azimuth, up="y"):
         front of the ``+`` direction of the axis after ``up`` (``z`` for
         ``y``-up); elevation lifts it towards ``up``.
     up : {"x", "y", "z"}
+
+    Returns
+    -------
+    (3, 3) float array
+
+    Examples
+    --------
+    >>> camera_rotation(0, 0).round(6).tolist()   # y up, looking at the mesh from +z
+    [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
     """
     if up not in UP_AXES:
         raise InvalidOptionError(f"up axis must be one of {sorted(UP_AXES)}, got {up!r}")
@@ -102,6 +111,13 @@ def isoline_segments(P, F, d, levels):
     -------
     segments : (s, 2, k) float array
     face : (s,) int array, the triangle each segment lies in
+
+    Examples
+    --------
+    >>> P = np.array([[0, 0], [1, 0], [0, 1]], float)
+    >>> segments, face = isoline_segments(P, np.array([[0, 1, 2]]), np.array([0.0, 1.0, 1.0]), [0.5])
+    >>> segments.tolist(), face.tolist()
+    ([[[0.5, 0.0], [0.0, 0.5]]], [0])
     """
     segs, owner = [], []
     ends = ((0, 1), (1, 2), (2, 0))
@@ -169,6 +185,15 @@ def render_distance(
     size : (float, float)
         Figure size in inches.
     dpi : int
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+    >>> path = os.path.join(tempfile.mkdtemp(), "tiny.png")
+    >>> render_distance(path, V, [[0, 1, 2]], [0.0, 1.0, 1.0], isolines=0, size=(1, 1), dpi=20)
+    >>> os.path.getsize(path) > 0
+    True
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.cm import ScalarMappable
