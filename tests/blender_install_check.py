@@ -52,7 +52,7 @@ def main(zip_path):
     supernodal, nested, sparse_forward = None, False, False
     if cvxopt is not None:  # the large-mesh backend works inside Blender's Python
         if pymetis is not None:  # with its nested dissection, used here on a small mesh
-            hc.linalg.NESTED_DISSECTION_MIN_SIZE = 0
+            hc.linalg.ordering.NESTED_DISSECTION_MIN_SIZE = 0
         faces = np.array([p.vertices[:] for p in obj.data.polygons])
         mesh = hc.TriangleMesh(co, faces)
         solver = hc.HeatSolver(mesh, backend="supernodal")

@@ -163,12 +163,14 @@ def test_backends_agree(backend):
     assert np.allclose(a, b, rtol=1e-8, atol=1e-12)
 
 
-@pytest.mark.skipif(hc.linalg._node_nd is None or hc.linalg.cvxopt is None, reason="needs the scale extra")
+@pytest.mark.skipif(
+    hc.linalg.metis.node_nd() is None or hc.linalg.libraries.optional("cvxopt") is None, reason="needs the scale extra"
+)
 def test_large_mesh_poisson_factor_uses_nested_dissection(monkeypatch):
     V, F = grid(31, 31)
     mesh = hc.TriangleMesh(V, F, refine=1)
     with_amd = hc.HeatSolver(mesh, backend="supernodal").distance([3, 500])
-    monkeypatch.setattr(hc.linalg, "NESTED_DISSECTION_MIN_SIZE", 0)  # as on large meshes
+    monkeypatch.setattr(hc.linalg.ordering, "NESTED_DISSECTION_MIN_SIZE", 0)  # as on large meshes
     mesh = hc.TriangleMesh(V, F, refine=1)
     solver = hc.HeatSolver(mesh, backend="supernodal")
     cache = hc.heat.domain_factors(mesh)

@@ -7,6 +7,7 @@ from shapes import grid
 
 import heatcore as hc
 from heatcore import linalg
+from heatcore.linalg import libraries, metis, ordering
 
 
 def heat_matrix(rows=30, cols=30):
@@ -43,7 +44,9 @@ def test_supernodal_shares_one_ordering_with_a_principal_submatrix():
     assert np.abs(sub @ x - b).max() < 1e-12
 
 
-needs_metis = pytest.mark.skipif(linalg._node_nd is None or linalg.cvxopt is None, reason="needs the scale extra")
+needs_metis = pytest.mark.skipif(
+    metis.node_nd() is None or libraries.optional("cvxopt") is None, reason="needs the scale extra"
+)
 
 
 @needs_metis
@@ -54,7 +57,7 @@ def test_nested_dissection_runs_metis_in_the_background_and_fills_in_less(monkey
     A = heat_matrix(60, 60)
     n = A.shape[0]
     assert linalg.start_nested_dissection(A, "supernodal") is None  # below the size where it pays
-    monkeypatch.setattr(linalg, "NESTED_DISSECTION_MIN_SIZE", n)
+    monkeypatch.setattr(ordering, "NESTED_DISSECTION_MIN_SIZE", n)
     assert linalg.start_nested_dissection(A, "cholmod") is None
     permutation = linalg.start_nested_dissection(A, "supernodal").result()
     # the GIL-free call computes what pymetis computes with the same options
@@ -82,7 +85,7 @@ def test_nested_dissection_runs_metis_in_the_background_and_fills_in_less(monkey
 
 @needs_metis
 def test_nested_dissection_of_a_graph_with_isolated_vertices(monkeypatch):
-    monkeypatch.setattr(linalg, "NESTED_DISSECTION_MIN_SIZE", 0)
+    monkeypatch.setattr(ordering, "NESTED_DISSECTION_MIN_SIZE", 0)
     A = sp.csr_matrix(sp.block_diag([sp.eye(3), heat_matrix(5, 5), sp.eye(2)]))
     permutation = linalg.start_nested_dissection(A, "supernodal").result()
     assert np.array_equal(np.sort(permutation), np.arange(A.shape[0]))
@@ -131,8 +134,8 @@ def test_many_pins_use_the_shared_ordering():
 
 
 def test_large_matrix_without_cvxopt_falls_back_and_hints_once(monkeypatch, caplog):
-    monkeypatch.setattr(linalg, "cvxopt", None)
-    monkeypatch.setattr(linalg, "_hinted", False)
+    monkeypatch.setitem(libraries._modules, "cvxopt", None)
+    monkeypatch.setattr(libraries, "_warned", set())
     big = linalg.SUPERNODAL_MIN_SIZE
     with caplog.at_level("WARNING", logger="heatcore.linalg"):
         assert linalg.choose_backend(big, "solve") == "cholmod"

@@ -11,8 +11,12 @@ solve takes to stream the 0.9 GB factor through memory. The backward solve
 CHOLMOD's own sparse solve (``cholmod_solve2`` with ``Bset``) converts a
 supernodal factor to simplicial form first, and cvxopt exposes neither;
 :class:`SparseForwardSolver` reads the factor that cvxopt holds (a capsule
-around a ``cholmod_factor``) in place, without copying it, and checks that its
-layout is the one described here before it is used.
+around a ``cholmod_factor``) in place, without copying it. It does so only on
+the cvxopt versions it was written for
+(:data:`heatcore.linalg.libraries.READ_INTERNALS_OF`), and checks that the
+factor's header is consistent with the layout described here before using it;
+on another version, or a factor it cannot read, it logs a warning (once) and
+the heat step solves densely (same results, slower).
 
 Examples
 --------
@@ -34,6 +38,11 @@ import ctypes
 
 import numpy as np
 from scipy.linalg.blas import dtrsv
+
+from .libraries import count_fast_path, version_is_known, warn_once
+
+#: What a reader of a foreign factor may raise where the factor is not one it can read.
+_UNREADABLE = (ValueError, TypeError, IndexError, OverflowError, ctypes.ArgumentError)
 
 #: Above this many nonzeros a right-hand side is treated as dense.
 MAX_NONZEROS = 10_000
@@ -80,6 +89,15 @@ def _view(address, size, dtype):
     return np.ctypeslib.as_array(ctypes.cast(address, ctypes.POINTER(ctype)), shape=(size,))
 
 
+def _decline(reason, detail):
+    warn_once(
+        ("sparse right-hand sides", reason),
+        "sparse right-hand sides: cannot read the CHOLMOD factor (%s: %s); solving densely (same results, slower)",
+        reason,
+        detail,
+    )
+
+
 class SparseForwardSolver:
     """``y = L^{-1} P b`` for a sparse ``b``, on a supernodal factor ``A = P^T L L^T P``.
 
@@ -94,6 +112,14 @@ class SparseForwardSolver:
     ----------
     permutation : (n,) int array
         ``P`` as CHOLMOD keeps it: ``(P b)[k] = b[permutation[k]]``.
+
+    Examples
+    --------
+    >>> from heatcore import linalg
+    >>> import scipy.sparse as sp
+    >>> f = linalg.factor(sp.identity(4, format="csc"), "supernodal")
+    >>> sorted(SparseForwardSolver.from_cvxopt(f._factor, 4).permutation.tolist())
+    [0, 1, 2, 3]
     """
 
     def __init__(self, owner, structure):
@@ -138,13 +164,43 @@ class SparseForwardSolver:
 
     @classmethod
     def from_cvxopt(cls, capsule, n):
-        """For a numeric factor from ``cvxopt.cholmod``; None if it is not one this can read."""
+        """For a numeric factor from ``cvxopt.cholmod``; None if it is not one this can read.
+
+        Parameters
+        ----------
+        capsule : PyCapsule
+            The factor ``cvxopt.cholmod.symbolic`` returned, after ``numeric``.
+        n : int
+            The matrix size, checked against the factor's.
+
+        Returns
+        -------
+        SparseForwardSolver or None
+            None (with a warning logged once per reason) on a cvxopt version
+            this was not written for, or a factor whose header is not as expected.
+
+        Examples
+        --------
+        >>> from heatcore import linalg
+        >>> import scipy.sparse as sp
+        >>> f = linalg.factor(sp.identity(5, format="csc"), "supernodal")
+        >>> SparseForwardSolver.from_cvxopt(f._factor, 5) is not None
+        True
+        """
+        if not version_is_known("cvxopt", "sparse right-hand sides"):
+            return None
         try:
             structure = _CholmodFactor.from_address(_capsule_pointer(capsule))
-            if structure.n != n:
-                return None
+        except _UNREADABLE as exc:
+            _decline("not a cvxopt factor", exc)
+            return None
+        if structure.n != n:
+            _decline("a factor of another size", f"{structure.n} unknowns, expected {n}")
+            return None
+        try:
             return cls(capsule, structure)
-        except Exception:  # any surprise reading another build's factor: the dense solve stays correct
+        except _UNREADABLE as exc:
+            _decline("an unexpected factor layout", exc)
             return None
 
     def _supernode_of(self, columns):
@@ -174,6 +230,14 @@ class SparseForwardSolver:
         -------
         (n,) float array or None
             In the factor's (permuted) order.
+
+        Examples
+        --------
+        >>> from heatcore import linalg
+        >>> import scipy.sparse as sp
+        >>> solver = linalg.factor(sp.diags(np.full(5, 4.0)).tocsc(), "supernodal")._sparse_forward
+        >>> solver.forward(np.array([0.0, 0.0, 2.0, 0.0, 0.0]))[solver.permutation == 2]  # L = 2 I
+        array([1.])
         """
         if np.count_nonzero(b) > MAX_NONZEROS:
             return None
@@ -182,6 +246,7 @@ class SparseForwardSolver:
         reach = self._reach(columns)
         if reach is None:
             return None
+        count_fast_path("sparse_forward")
         y = np.zeros(b.size)
         y[columns] = b[nonzero]
         for supernode in reach:
