@@ -586,6 +586,21 @@ def draw(graph, path, title="heatcore: modules by layer"):
     return path
 
 
+def module_table(sources):
+    """Markdown rows ``| path | layer | first line of the module docstring |``, by layer, top first."""
+    rows = []
+    for path, text in sources.items():
+        name = module_name(path)
+        where = layer_of(name)
+        doc = ast.get_docstring(ast.parse(text)) or ""
+        summary_line = doc.strip().split("\n\n")[0].replace("\n", " ")
+        rows.append(((-where[0], where[2]) if where else (1, "?"), path, where[2] if where else "?", summary_line))
+    rows.sort()
+    return ["| module | layer | concept |", "|---|---|---|"] + [
+        f"| `{path}` | {group} | {line} |" for _, path, group, line in rows
+    ]
+
+
 def main(argv=None):
     """Command line: print the figures (or JSON), optionally draw the diagram."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -593,8 +608,13 @@ def main(argv=None):
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     parser.add_argument("--edges", action="store_true", help="also list every import arrow")
     parser.add_argument("--draw", metavar="PNG", help="draw the layer diagram to this file")
+    parser.add_argument("--table", action="store_true", help="print a markdown table module -> layer -> docstring")
     args = parser.parse_args(argv)
-    graph = build_graph(read_sources(args.rev))
+    sources = read_sources(args.rev)
+    graph = build_graph(sources)
+    if args.table:
+        print("\n".join(module_table(sources)))
+        return 0
     title = f"revision {args.rev}" if args.rev else "working tree"
     if args.json:
         print(json.dumps(summary(graph), indent=1))
