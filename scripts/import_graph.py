@@ -57,7 +57,7 @@ ROOTS = ("heatcore", "blender_addon")
 # siblings: neither imports the other. The flat names of the layout before 0d3c9d9 are listed
 # too, so that an old revision is judged by the same rules.
 LAYERS = [
-    ("foundation", [("errors", "errors, options: what every layer may raise or declare",
+    ("foundation", [("foundation", "errors and options: what every layer may raise or declare",
                      ["heatcore.errors", "heatcore.options", "heatcore.options.*"])]),
     ("linalg", [("linalg", "sparse SPD factorizations, orderings; no geometry",
                  ["heatcore.linalg", "heatcore.linalg.*", "heatcore.sparse_rhs"])]),
@@ -423,26 +423,20 @@ def report(graph, title):
 # ---------------------------------------------------------------------------------------------
 # the layer diagram
 
-def _short(module, group):
-    """A module's name inside its group's box: ``heatcore.domains.triangle`` -> ``triangle.py``."""
-    prefixes = {"api": "heatcore", "blender_addon": "blender_addon"}
-    parts = module.split(".")
-    if group in prefixes:
-        base = prefixes[group].split(".")
-    elif module == "heatcore.__main__":
-        return "__main__.py"
-    elif len(parts) >= 2 and parts[1] in {"linalg", "domains", "io", "viz", "apps"}:
-        base = parts[:2]
-    else:
-        base = parts[:1]
-    rest = parts[len(base):]
-    if not rest:
-        return "__init__.py"
-    return "/".join(rest) + ".py"
+def _short(path, group):
+    """A module's file name inside its group's box: ``heatcore/domains/pointcloud/__init__.py``
+    -> ``pointcloud/__init__.py`` in the ``domains`` box."""
+    parts = Path(path).parts
+    if group in FOLDERS:
+        folder = ("blender_addon",) if group == "blender_addon" else ("heatcore", group)
+        if parts[: len(folder)] == folder:
+            return "/".join(parts[len(folder):])
+        return path  # heatcore/__main__.py among the front ends
+    return "/".join(parts[1:])
 
 
 GROUP_COLORS = {  # (box fill, arrow colour)
-    "errors": ("#ececec", "#6b6b6b"), "linalg": ("#dce9f7", "#2a6bb0"), "domains": ("#dff2df", "#2e8b3a"),
+    "foundation": ("#ececec", "#6b6b6b"), "linalg": ("#dce9f7", "#2a6bb0"), "domains": ("#dff2df", "#2e8b3a"),
     "solver": ("#fde9cf", "#d07a00"), "io": ("#efe1f5", "#8a4fb0"), "viz": ("#fbe0e6", "#c2456a"),
     "api": ("#fff6c4", "#a08a00"), "apps": ("#dff1f3", "#1f8a96"), "blender_addon": ("#f3ecdc", "#8a6a2e"),
 }
@@ -471,8 +465,8 @@ def draw(graph, path, title="heatcore: modules by layer"):
         for group, desc, _ in groups:
             if members.get(group):
                 rows.append({"group": group, "desc": desc, "layer": layer, "rank": rank,
-                             "names": sorted((_short(m, group) for m in members[group]),
-                                             key=lambda s: (s != "__init__.py", s))})
+                             "names": sorted((_short(graph.modules[m], group) for m in members[group]),
+                                             key=lambda s: (s != "__init__.py", s.startswith("heatcore/"), s))})
     if members.get("unlayered"):
         rows.append({"group": "unlayered", "desc": "no layer claims these modules", "layer": "?", "rank": -1,
                      "names": sorted(members["unlayered"])})
@@ -487,13 +481,20 @@ def draw(graph, path, title="heatcore: modules by layer"):
     for a, b, _, _ in upward_arrows(graph):
         bad.add((layer_of(a)[2], layer_of(b)[2]))
 
-    box_x, box_w, ncols, row_h, head_h, pad, gap = 0.0, 9.2, 4, 0.28, 0.62, 0.12, 0.34
+    box_x, box_w, row_h, head_h, pad, gap = 0.0, 9.2, 0.28, 0.62, 0.12, 0.34
     fan_in = {}
     for _, gb in counts:
         fan_in[gb] = fan_in.get(gb, 0) + 1
     y = 0.0
-    for r in rows:
-        nrows = -(-len(r["names"]) // ncols)
+    char_w = 0.108  # width of a monospace character at the names' font size, in axis units
+    for r in rows:  # as many columns as fit, each as wide as its longest name
+        for ncols in range(5, 0, -1):
+            nrows = -(-len(r["names"]) // ncols)
+            columns = [r["names"][k:k + nrows] for k in range(0, len(r["names"]), nrows)]
+            widths = [max(map(len, c)) * char_w + 0.45 for c in columns]
+            if sum(widths) <= box_w - 0.4:
+                break
+        r["columns"], r["widths"] = columns, widths
         r["h"] = max(head_h + nrows * row_h + pad, 0.27 * (fan_in.get(r["group"], 0) + 1))
         r["top"] = -y
         r["y"] = -y - r["h"]
@@ -534,12 +535,12 @@ def draw(graph, path, title="heatcore: modules by layer"):
         ax.text(box_x + 0.15, r["top"] - 0.08, header, fontsize=11, fontweight="bold", va="top", ha="left", zorder=3)
         ax.text(box_x + box_w - 0.15, r["top"] - 0.1, r["desc"], fontsize=8.5, va="top",
                 ha="right", color="#444444", style="italic", zorder=3)
-        nrows = -(-len(r["names"]) // ncols)
-        col_w = (box_w - 0.3) / ncols
-        for k, name in enumerate(r["names"]):
-            c, q = divmod(k, nrows)
-            ax.text(box_x + 0.3 + c * col_w, r["top"] - head_h - q * row_h, name, fontsize=8.6,
-                    family="monospace", va="center", ha="left", zorder=3)
+        x = box_x + 0.3
+        for column, w in zip(r["columns"], r["widths"]):
+            for q, name in enumerate(column):
+                ax.text(x, r["top"] - head_h - q * row_h, name, fontsize=8.6,
+                        family="monospace", va="center", ha="left", zorder=3)
+            x += w
 
     # arrows: out of the importer's right side into its lane, down (or up) the lane, into the target
     entries = {}
@@ -577,7 +578,8 @@ def draw(graph, path, title="heatcore: modules by layer"):
             f"{len(s['upward'])} upward arrows", fontsize=9.5, ha="right", va="top", color="#333333")
     ax.text(-2.05, bottom - 0.2, "Each importing group has one coloured lane on the right; its arrows point at the "
             "groups it imports, the number counts module-to-module imports.\nImports run down the layers only; "
-            "siblings do not import each other. An arrow up or sideways would be red and dashed.",
+            "siblings do not import each other. An arrow up or sideways would be red and dashed.\n"
+            "Fences: domains import no linalg backend (only linalg/factor.py); ctypes is imported only in linalg/.",
             fontsize=8.5, color="#444444", va="top", linespacing=1.4)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
