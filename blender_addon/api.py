@@ -10,7 +10,9 @@ Examples
 >>> result.max_distance, result.seconds                                       # doctest: +SKIP
 """
 
+import importlib
 import time
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -21,12 +23,15 @@ from ._heatcore import heatcore
 from .adapters import AddonError
 from .cache import SOLVERS
 
+#: ``heatcore.options``: every option's name, range, default and help (the bundled copy's).
+options = importlib.import_module(heatcore.__name__ + ".options")
+
 DEFAULT_ATTRIBUTE = "geodesic_distance"
 DEFAULT_COLOR_ATTRIBUTE = "geodesic_distance_color"
 
-#: Options that shape the domain (``heatcore.TriangleMesh``); every other
-#: keyword goes to ``heatcore.HeatSolver`` unchanged.
-MESH_OPTIONS = {"robust": True, "refine": "auto"}
+#: Options that shape the domain (``heatcore.TriangleMesh``), with their defaults;
+#: every other keyword goes to ``heatcore.HeatSolver``.
+MESH_OPTIONS = options.defaults("mesh")
 
 
 @dataclass
@@ -88,10 +93,23 @@ def resolve_sources(obj, sources=None, vertex_group=None):
             else "give at least one vertex"
         )
         raise AddonError(f"no source vertices: {what} of {obj.name!r} is empty; {hint}")
-    if src.min() < 0 or src.max() >= n:
-        bad = int(src[(src < 0) | (src >= n)][0])
-        raise AddonError(f"source vertex {bad} is outside the mesh (valid indices are 0..{n - 1})")
-    return src
+    try:
+        return options.check_source_vertices(src, n)
+    except heatcore.InvalidSourceError as exc:
+        raise AddonError(str(exc)) from None
+
+
+def _renamed(solver_options):
+    """``time_factor=`` (the add-on's old name of ``m``) as ``m=``, with a DeprecationWarning."""
+    if "time_factor" not in solver_options:
+        return dict(solver_options)
+    solver_options = dict(solver_options)
+    value = solver_options.pop("time_factor")
+    if "m" in solver_options:
+        raise AddonError("give m= only: time_factor= is its deprecated name")
+    warnings.warn("time_factor= is deprecated; use m= (heatcore's name of the heat time factor)",
+                  DeprecationWarning, stacklevel=3)
+    return {**solver_options, "m": value}
 
 
 def compute_geodesic_distance(
@@ -141,9 +159,11 @@ def compute_geodesic_distance(
     progress : callable, optional
         ``progress(fraction, message)`` called between stages.
     **solver_options
-        ``robust`` and ``refine`` go to :class:`heatcore.TriangleMesh`; all
-        others (``m``, ``boundary``, ``backend``, ...) to
-        :class:`heatcore.HeatSolver`.
+        ``robust``, ``refine`` and ``weld`` go to :class:`heatcore.TriangleMesh`;
+        all others (``m``, ``boundary``, ``accuracy``, ``backend``, ...) to
+        :class:`heatcore.HeatSolver`. Options declared in ``heatcore.options``
+        are checked there first. ``time_factor`` is a deprecated name of
+        ``m`` (DeprecationWarning).
 
     Returns
     -------
@@ -163,8 +183,12 @@ def compute_geodesic_distance(
     if obj is None or obj.type != "MESH":
         raise AddonError(f"{getattr(obj, 'name', obj)!r} is not a mesh object")
     mesh = obj.data
-    if colormap not in colormaps.COLORMAPS:
-        raise AddonError(f"unknown colormap {colormap!r}; choose one of {sorted(colormaps.COLORMAPS)}")
+    try:
+        colormap = options.check("colormap", colormap)
+    except heatcore.InvalidOptionError as exc:
+        raise AddonError(str(exc)) from None
+    isolines = options.check("isolines", isolines)
+    solver_options = options.check_all(_renamed(solver_options))
     for name, data_type in ((attribute, "FLOAT"), (color_attribute, "FLOAT_COLOR")):
         if name is not None:
             adapters.check_attribute_free(mesh, name, "POINT", data_type)
@@ -178,6 +202,8 @@ def compute_geodesic_distance(
     src = resolve_sources(obj, sources, vertex_group)
 
     mesh_options = {k: solver_options.pop(k, default) for k, default in MESH_OPTIONS.items()}
+    if not F.shape[0]:  # a point cloud takes refine only
+        mesh_options = {"refine": mesh_options["refine"]}
     solver_seconds = 0.0
 
     def build():
@@ -187,7 +213,7 @@ def compute_geodesic_distance(
         if F.shape[0]:
             domain = heatcore.TriangleMesh(V, F, **mesh_options)
         else:  # vertices only: a point cloud
-            domain = heatcore.PointCloud(V, refine=mesh_options["refine"])
+            domain = heatcore.PointCloud(V, **mesh_options)
         solver = heatcore.HeatSolver(domain, **solver_options)
         solver_seconds = time.perf_counter() - t0
         return solver

@@ -30,7 +30,7 @@ class VIEW3D_PT_heat_geodesic(bpy.types.Panel):
                 col.prop(settings, "vertex_group", text="Group")
 
         col = layout.column(heading="Solver")
-        col.prop(settings, "time_factor")
+        col.prop(settings, "m")
         col.prop(settings, "boundary")
         col.prop(settings, "accuracy")
         col.prop(settings, "robust")

@@ -1,25 +1,50 @@
 """The add-on's options (shared by the operator and the panel) and last-run statistics.
 
 :class:`GeodesicOptions` declares every option once; the operator and the
-scene settings shown in the panel both inherit it.
+scene settings shown in the panel both inherit it. heatcore's options
+(``m``, ``boundary``, ``accuracy``, ``robust``, ``colormap``, ``isolines``)
+are generated from ``heatcore.options`` by :func:`option_property`: the
+property name is the option's name, and its description, default, range and
+choices are the declared ones (the label may be friendlier). The add-on's own
+options (sources, output names) are declared here.
 """
 
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
-from ._heatcore import colormap as colormaps
-from .api import DEFAULT_ATTRIBUTE, DEFAULT_COLOR_ATTRIBUTE
+from .api import DEFAULT_ATTRIBUTE, DEFAULT_COLOR_ATTRIBUTE, options
+
+#: heatcore options that are properties here, in panel order.
+HEATCORE_OPTIONS = ("m", "boundary", "accuracy", "robust", "colormap", "isolines")
+#: Of those, the ones passed to heatcore's domain and solver.
+SOLVER_OPTIONS = ("m", "boundary", "accuracy", "robust")
 
 SOURCE_ITEMS = [
     ("SELECTED", "Selected Vertices", "Use the selected vertices as sources"),
     ("VERTEX_GROUP", "Vertex Group", "Use the members of a vertex group as sources"),
 ]
-BOUNDARY_ITEMS = [
-    ("robin", "Robin", "Mean of the Neumann and Dirichlet heat solutions (recommended)"),
-    ("neumann", "Neumann", "Zero-flux boundary: distance bends less near holes"),
-    ("dirichlet", "Dirichlet", "Zero heat on the boundary"),
-]
-COLORMAP_ITEMS = [(name, name.capitalize(), f"Perceptual colormap {name}") for name in colormaps.COLORMAPS]
+
+
+def option_property(name):
+    """The bpy property of heatcore option ``name`` (``heatcore.options.OPTIONS[name]``).
+
+    Examples
+    --------
+    >>> option_property("m").keywords["default"]  # doctest: +SKIP
+    1.0
+    """
+    opt = options.OPTIONS[name]
+    kw = {"name": opt.ui_label or opt.label.title(), "description": opt.help, "default": opt.default_for("blender")}
+    if opt.choices:
+        items = [(c, c.capitalize(), text) for c, text in zip(opt.choices, opt.choice_help)]
+        return EnumProperty(items=items, **kw)
+    if opt.type is bool:
+        return BoolProperty(**kw)
+    limits = {"min": opt.ui_min if opt.low_open else opt.low, "max": opt.high, "soft_max": opt.soft_max}
+    limits = {k: v for k, v in limits.items() if v is not None}
+    if opt.type is int:
+        return IntProperty(**kw, **limits)
+    return FloatProperty(**kw, **limits)
 
 
 class GeodesicOptions:
@@ -27,27 +52,10 @@ class GeodesicOptions:
 
     source: EnumProperty(name="Sources", items=SOURCE_ITEMS, default="SELECTED")
     vertex_group: StringProperty(name="Source Group", description="Vertex group whose members are the sources")
-    time_factor: FloatProperty(
-        name="Time Factor",
-        description="Heat time t = m h² (h: mean edge length); larger values give a smoother distance",
-        default=1.0,
-        min=1e-3,
-        soft_max=1000.0,
-    )
-    boundary: EnumProperty(name="Boundary", items=BOUNDARY_ITEMS, default="robin")
-    accuracy: EnumProperty(
-        name="Accuracy",
-        items=[
-            ("smooth", "Smooth", "The heat method: smooth distance, about 1-2% error"),
-            ("high", "High", "Heat method plus an ordered eikonal pass: about 0.1-0.3% error, slower"),
-        ],
-        default="smooth",
-    )
-    robust: BoolProperty(
-        name="Robust",
-        description="Intrinsic Delaunay operators: accurate on badly shaped triangles",
-        default=True,
-    )
+    m: option_property("m")
+    boundary: option_property("boundary")
+    accuracy: option_property("accuracy")
+    robust: option_property("robust")
     attribute: StringProperty(
         name="Attribute", description="FLOAT point attribute that receives the distance", default=DEFAULT_ATTRIBUTE
     )
@@ -57,8 +65,8 @@ class GeodesicOptions:
         description="Color attribute that receives the colored distance (made active)",
         default=DEFAULT_COLOR_ATTRIBUTE,
     )
-    colormap: EnumProperty(name="Colormap", items=COLORMAP_ITEMS, default="viridis")
-    isolines: IntProperty(name="Isolines", description="Number of isoline stripes (0: none)", default=10, min=0, soft_max=50)
+    colormap: option_property("colormap")
+    isolines: option_property("isolines")
     write_weights: BoolProperty(
         name="Vertex Group Output",
         description="Also write the normalized distance as vertex-group weights (for modifiers)",
@@ -81,7 +89,7 @@ class GeodesicOptions:
 
     def solver_options(self):
         """Options passed through to heatcore (``TriangleMesh`` / ``HeatSolver``)."""
-        return dict(m=self.time_factor, boundary=self.boundary, accuracy=self.accuracy, robust=self.robust)
+        return {name: getattr(self, name) for name in SOLVER_OPTIONS}
 
 
 class HeatGeodesicSettings(GeodesicOptions, bpy.types.PropertyGroup):

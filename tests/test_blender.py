@@ -362,6 +362,24 @@ def test_script_api_options_and_cache(addon):
         api(obj, sources=[0], boundary="periodic")
 
 
+def test_m_is_the_property_and_time_factor_a_deprecated_keyword(addon):
+    obj = ico_sphere(subdivisions=3)
+    select_only(obj, [0])
+    assert run(obj, m=4.0, attribute="d") == {"FINISHED"}
+    np.testing.assert_allclose(attribute(obj.data, "d"), reference(obj, [0], m=4.0), rtol=1e-6)
+    with pytest.raises(TypeError):  # the operator property is m now
+        run(obj, time_factor=4.0)
+
+    api = addon.compute_geodesic_distance
+    with pytest.warns(DeprecationWarning, match="time_factor"):
+        old = api(obj, sources=[0], attribute="d", color_attribute=None, time_factor=4.0)
+    np.testing.assert_array_equal(old.distance, api(obj, sources=[0], attribute="d", color_attribute=None, m=4.0).distance)
+    with pytest.raises(addon.AddonError, match="m= only"):
+        api(obj, sources=[0], m=1.0, time_factor=4.0)
+    with pytest.raises(addon.AddonError, match="source vertex 99999 is out of range"):
+        api(obj, sources=[99999])
+
+
 def test_operator_accuracy_high_matches_heatcore(addon):
     obj = ico_sphere(subdivisions=4, radius=1.0)
     V = coords(obj.data)

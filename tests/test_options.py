@@ -1,0 +1,290 @@
+"""Every front end agrees with heatcore/options.py: names, ranges or choices, defaults, help texts.
+
+The command line (``heatcore distance/demo/batch``), the MeshLab command and
+filter, the Blender properties and :func:`heatcore.geodesic_distance` are
+compared with the declarations, value by value.
+"""
+
+import argparse
+import importlib.util
+import inspect
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import heatcore as hc
+from heatcore import options
+from heatcore.apps import cli, meshlab
+from heatcore.apps.outputs import PNG_ISOLINES
+from heatcore.errors import InvalidOptionError
+from heatcore.options import OPTIONS
+
+REPO = Path(__file__).resolve().parents[1]
+TRIANGLE = (np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float), np.array([[0, 1, 2]]))
+
+
+def _flat(text):
+    return " ".join(text.split()).lower()
+
+
+def bad_values(opt):
+    """Values just outside the declared range or choices, and of the wrong type."""
+    if opt.choices:
+        return ["not-a-choice", None, 1]
+    if opt.type is bool:
+        return ["yes", 2, None]
+    values = ["x", [1]]
+    if opt.low is not None:
+        values.append(opt.low if opt.low_open else opt.low - (1 if opt.type is int else 1e-9))
+    if opt.high is not None:
+        values.append(opt.high + 1)
+    if opt.type is int:
+        values += [1.5, True]
+    if not opt.none_means:
+        values.append(None)
+    return values
+
+
+def good_values(opt):
+    """The default, the ends of the range, the specials and every choice."""
+    if opt.choices:
+        return list(opt.choices)
+    if opt.type is bool:
+        return [True, False]
+    values = [*opt.specials, *([None] if opt.none_means else [])]
+    if opt.low is not None:
+        values.append(opt.low * 1.5 + 1e-9 if opt.low_open else opt.low)
+    if opt.high is not None:
+        values.append(opt.high)
+    return values
+
+
+# ---------------------------------------------------------------- the table itself
+
+
+@pytest.mark.parametrize("name", list(OPTIONS))
+def test_declaration_is_complete_and_its_default_is_valid(name):
+    opt = OPTIONS[name]
+    assert opt.name == name and opt.label and opt.unit and opt.help
+    assert opt.target in ("mesh", "solver", "read", "output")
+    assert opt.type in (float, int, bool, str) and (opt.type is str) == bool(opt.choices)
+    assert len(opt.choice_help) in (0, len(opt.choices))
+    assert opt.check(opt.default) == opt.default
+    for value in good_values(opt):
+        assert opt.check(value) == value
+    for value in bad_values(opt):
+        with pytest.raises(InvalidOptionError) as caught:
+            opt.check(value)
+        assert str(caught.value) == f"{'unknown' if opt.choices else 'invalid'} {opt.label} {value!r}: " \
+                                    f"{name} must be {opt.requirement()}"
+
+
+def test_declared_choices_match_the_code_that_implements_them():
+    from heatcore.io.domain import DOMAIN_KINDS
+    from heatcore.viz.colormap import COLORMAPS
+
+    assert OPTIONS["colormap"].choices == tuple(sorted(COLORMAPS))
+    assert OPTIONS["domain"].choices == DOMAIN_KINDS
+    assert OPTIONS["refine"].requirement() == "'auto' or an integer 0..8"
+    assert f"{PNG_ISOLINES} in the PNG" in OPTIONS["isolines"].help_text("cli")
+    assert options.names("mesh") == ("robust", "refine", "weld")
+    assert set(options.names("solver")) == {"m", "boundary", "accuracy", "backend"}
+
+
+def test_check_normalizes_and_names_unknown_options():
+    assert options.check("m", np.float32(2)) == 2.0 and type(options.check("m", 2)) is float
+    assert options.check("refine", np.int64(3)) == 3 and type(options.check("refine", np.int64(3))) is int
+    assert options.check("colormap", "none", extra=("none",)) == "none"
+    with pytest.raises(InvalidOptionError, match="unknown option 'time_factor'"):
+        options.check("time_factor", 1.0)
+    with pytest.raises(hc.InvalidSourceError, match="source vertex -1 is out of range"):
+        options.check_source_vertices([0, -1], 5)
+
+
+# ---------------------------------------------------------------- command lines
+
+
+def subparser(name):
+    parser = cli.build_parser()
+    return parser._subparsers._group_actions[0].choices[name]
+
+
+def actions_by_dest(parser):
+    found = {}
+    for action in parser._actions:
+        found.setdefault(action.dest, []).append(action)
+    return found
+
+
+def assert_parser_matches(parser, names, front_end, extra_choices=()):
+    actions = actions_by_dest(parser)
+    for name in names:
+        opt = OPTIONS[name]
+        found = actions.get(name)
+        assert found, f"{parser.prog}: no option {name}"
+        flags = sorted(f for a in found for f in a.option_strings)
+        assert flags == sorted(f for f in (opt.flag, opt.off_flag) if f), (parser.prog, name, flags)
+        for action in found:
+            assert action.default == opt.default_for(front_end), (parser.prog, name, action.default)
+            if opt.flag and opt.off_flag in action.option_strings:  # --no-weld: its own declared help
+                assert action.help == opt.off_help
+            else:
+                assert opt.help in action.help.replace("%%", "%"), (parser.prog, name, action.help)
+        main = next((a for a in found if opt.flag in a.option_strings), None)
+        if main is None:  # --no-robust only
+            assert found[0].const is False and opt.type is bool and opt.default is True
+            continue
+        if opt.choices:
+            assert tuple(main.choices) == opt.choices + tuple(extra_choices), (parser.prog, name)
+            continue
+        for value in good_values(opt):
+            if value is not None:
+                assert main.type(str(value)) == value
+        for value in bad_values(opt):
+            if isinstance(value, (int, float, str)) and not isinstance(value, bool):
+                with pytest.raises(argparse.ArgumentTypeError):
+                    main.type(str(value))
+        if opt.none_means:
+            off = next(a for a in found if opt.off_flag in a.option_strings)
+            assert off.const is None
+
+
+@pytest.mark.parametrize("command", ["distance", "demo", "batch"])
+def test_cli_options_are_the_declared_ones(command):
+    parser = subparser(command)
+    names = {"distance": (*cli.SOLVER_OPTIONS, "colormap", "isolines", "domain"),
+             "demo": (*cli.SOLVER_OPTIONS, "colormap", "isolines"),
+             "batch": (*cli.SOLVER_OPTIONS, "domain")}[command]
+    assert_parser_matches(parser, names, "cli")
+    # every parsed option that shares a name with a declaration is that declaration
+    declared = set(actions_by_dest(parser)) & set(OPTIONS)
+    assert declared == set(names)
+
+
+def test_cli_routes_each_option_to_its_declared_target():
+    args = subparser("distance").parse_args(["x.ply", "--m", "3", "--refine", "2", "--no-weld", "--no-robust"])
+    kw = cli.solver_keywords(args)
+    assert kw == {"mesh": {"robust": False, "refine": 2, "weld": None},
+                  "solver": {"m": 3.0, "boundary": "robin", "accuracy": "smooth"}}
+    assert all(OPTIONS[n].target == target for target, d in kw.items() for n in d)
+
+
+def test_meshlab_command_options_are_the_declared_ones():
+    parser = meshlab.build_parser()
+    assert_parser_matches(parser, meshlab.SOLVER_OPTIONS, "meshlab")
+    assert_parser_matches(parser, ["colormap"], "meshlab", extra_choices=meshlab.EXTRA_COLORMAPS)
+    assert_parser_matches(parser, ["isolines"], "meshlab")
+
+
+def test_meshlab_filter_parameters_are_the_declared_ones():
+    params = inspect.signature(meshlab.geodesic_distance_from_selection).parameters
+    names = [n for n in params if n in OPTIONS]
+    assert set(names) == {"m", "boundary", "accuracy", "robust", "refine", "weld", "colormap", "isolines"}
+    for name in names:
+        assert params[name].default == OPTIONS[name].default_for("meshlab"), name
+
+
+@pytest.mark.parametrize("name", ["m", "boundary", "accuracy", "robust", "refine", "weld", "colormap", "isolines"])
+def test_meshlab_filter_checks_through_options(name):
+    pymeshlab = pytest.importorskip("pymeshlab")
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(TRIANGLE[0], TRIANGLE[1].astype(np.int32)))
+    for value in bad_values(OPTIONS[name]):
+        with pytest.raises(InvalidOptionError) as caught:
+            meshlab.geodesic_distance_from_selection(ms, **{name: value})
+        extra = meshlab.EXTRA_COLORMAPS if name == "colormap" else ()
+        assert str(caught.value) == str(OPTIONS[name].error(value, extra))
+    with pytest.raises(Exception, match="heat_distance"):  # nothing was written
+        ms.current_mesh().vertex_custom_scalar_attribute_array("heat_distance")
+
+
+# ---------------------------------------------------------------- the Python API
+
+
+API_OPTIONS = ("m", "boundary", "robust", "refine", "accuracy", "weld")
+
+
+def test_geodesic_distance_keywords_are_the_declared_ones():
+    params = inspect.signature(hc.geodesic_distance).parameters
+    assert [n for n in params if n in OPTIONS] == list(API_OPTIONS)
+    doc = _flat(hc.geodesic_distance.__doc__)
+    for name in API_OPTIONS:
+        opt = OPTIONS[name]
+        assert params[name].default == opt.default, name
+        assert _flat(opt.help) in doc, f"geodesic_distance's docstring lacks the help text of {name}"
+
+
+@pytest.mark.parametrize("name", API_OPTIONS)
+def test_geodesic_distance_checks_through_options(name):
+    opt = OPTIONS[name]
+    for value in bad_values(opt):
+        with pytest.raises(InvalidOptionError) as caught:
+            hc.geodesic_distance(*TRIANGLE, [0], **{name: value})
+        assert str(caught.value) == str(opt.error(value))
+    for value in good_values(opt)[:2]:
+        kw = {"refine": 0, name: value} if name != "refine" else {name: value if value != 8 else 1}
+        assert np.isfinite(hc.geodesic_distance(*TRIANGLE, [0], **kw)).all()
+
+
+def test_geodesic_distance_source_keywords_old_and_new():
+    d_region = hc.geodesic_distance(*TRIANGLE, region=[0], refine=0)
+    bary = ([0], [[0.2, 0.3, 0.5]])
+    d_points = hc.geodesic_distance(*TRIANGLE, points=bary, refine=0)
+    with pytest.warns(DeprecationWarning, match="faces"):
+        old_region = hc.geodesic_distance(*TRIANGLE, faces=[0], refine=0)
+    with pytest.warns(DeprecationWarning, match="face_points"):
+        old_points = hc.geodesic_distance(*TRIANGLE, face_points=bary, refine=0)
+    np.testing.assert_array_equal(old_region, d_region)
+    np.testing.assert_array_equal(old_points, d_points)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        hc.geodesic_distance(*TRIANGLE, [0], refine=0)  # the new names warn nothing
+    with pytest.raises(hc.InvalidSourceError, match="twice"), pytest.warns(DeprecationWarning):
+        hc.geodesic_distance(*TRIANGLE, region=[0], faces=[0], refine=0)
+
+
+# ---------------------------------------------------------------- Blender
+
+
+@pytest.fixture(scope="module")
+def blender_properties():
+    pytest.importorskip("bpy")
+    if "blender_addon" not in sys.modules:
+        spec = importlib.util.spec_from_file_location(
+            "blender_addon", REPO / "blender_addon" / "__init__.py",
+            submodule_search_locations=[str(REPO / "blender_addon")],
+        )
+        module = importlib.util.module_from_spec(spec)
+        sys.modules["blender_addon"] = module
+        spec.loader.exec_module(module)
+    return sys.modules["blender_addon"].properties
+
+
+def test_blender_properties_are_the_declared_ones(blender_properties):
+    import bpy
+
+    annotations = blender_properties.GeodesicOptions.__annotations__
+    declared = [n for n in annotations if n in OPTIONS]
+    assert declared == list(blender_properties.HEATCORE_OPTIONS)
+    assert "time_factor" not in annotations
+    for name in declared:
+        opt, prop = OPTIONS[name], annotations[name]
+        kw = prop.keywords
+        assert kw["description"] == opt.help, name
+        assert kw["default"] == opt.default_for("blender"), name
+        if opt.choices:
+            assert prop.function is bpy.props.EnumProperty
+            assert [item[0] for item in kw["items"]] == list(opt.choices)
+            assert [item[2] for item in kw["items"]] == list(opt.choice_help)
+        elif opt.type is bool:
+            assert prop.function is bpy.props.BoolProperty
+        else:
+            assert prop.function is (bpy.props.IntProperty if opt.type is int else bpy.props.FloatProperty)
+            low = kw.get("min")
+            assert (low > opt.low and low == opt.ui_min) if opt.low_open else low == opt.low, name
+            assert kw.get("max") == opt.high and kw.get("soft_max") == opt.soft_max, name
+    assert set(blender_properties.SOLVER_OPTIONS) <= set(declared)
+    assert all(OPTIONS[n].target in ("mesh", "solver") for n in blender_properties.SOLVER_OPTIONS)
