@@ -119,6 +119,15 @@ class IntrinsicOperators(NamedTuple):
         Mean edge length (of each part), in the input's units.
     thin_parts : int array
         Parts mollified again because their triangles were thinner than ``thin_slack``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from heatcore.domains.refine import unique_edges
+    >>> F = np.array([[0, 1, 2]])
+    >>> built = intrinsic_operators(np.eye(3), F, *unique_edges(F))
+    >>> built.n_flips, built.eps, round(built.h, 3), built.intrinsic.faces.tolist()
+    (0, 0.0, 1.414, [[0, 1, 2]])
     """
 
     operators: Operators

@@ -17,7 +17,6 @@ import dataclasses
 import warnings
 
 import numpy as np
-import scipy.sparse as sp
 
 from ..errors import (
     HeatcoreWarning,
@@ -26,24 +25,9 @@ from ..errors import (
     InvalidSourceError,
 )
 from .base import MeshDomain
-from .intrinsic import (
-    NEXT,
-    PREV,
-    IntrinsicTriangulation,
-    corner_cotangents,
-    face_areas,
-    face_edge_lengths,
-    mollify,
-    triangle_slack,
-)
-from .operators import Operators, laplacian_from_weights
-from .parts import (
-    in_part_units,
-    part_extremes,
-    part_means,
-    unit_exponents,
-    vertex_components,
-)
+from .cotan import intrinsic_operators, triangle_operators  # noqa: F401 (triangle_operators: importable from here)
+from .intrinsic import face_edge_lengths
+from .parts import in_part_units, unit_exponents, vertex_components
 from .refine import (
     AUTO_REFINE_BUDGET,
     AUTO_REFINE_MIN_VERTICES,
@@ -63,48 +47,6 @@ from .weld import weld_map, weld_tolerance
 #: lengthens its edges by at most 0.1% of the mean edge length. No shared test
 #: mesh comes near it (their smallest slack after the flips: 4e-3 to 0.13).
 THIN_TRIANGLE_SLACK = 1e-3
-
-
-def triangle_operators(lengths, faces, n_vertices, boundary, mean_edge_length, unit_exponent=0):
-    """Operator bundle of a triangulation given by its edge lengths.
-
-    Parameters
-    ----------
-    lengths : (m, 3) float array, column ``c`` opposite corner ``c``
-    faces : (m, 3) int array
-    n_vertices : int
-    boundary : (n,) bool array
-    mean_edge_length : float or (n,) float array
-    unit_exponent : int or (n,) int array
-        See :class:`~heatcore.domains.operators.Operators`.
-
-    Returns
-    -------
-    Operators
-        Gradients are expressed in a 2D frame laid out on each triangle.
-    """
-    areas = face_areas(lengths)
-    cot = corner_cotangents(lengths, areas)
-    a = faces[:, NEXT].ravel()
-    b = faces[:, PREV].ravel()
-    L = laplacian_from_weights(a, b, 0.5 * cot.ravel(), n_vertices)  # half the cotangent opposite each side
-    mass = np.bincount(faces.ravel(), weights=np.repeat(areas / 3.0, 3), minlength=n_vertices)
-
-    # Planar layout of each triangle: corner 0 at (0, 0), corner 1 at (l2, 0), corner 2 at (x, y).
-    # The gradient of corner c's hat function is the edge opposite c (counter-clockwise)
-    # turned by 90 degrees, over twice the area.
-    l0, l1, l2 = lengths.T
-    x = (l1**2 + l2**2 - l0**2) / (2.0 * l2)
-    y = 2.0 * areas / l2
-    m = faces.shape[0]
-    grad_hat = np.empty((m, 2, 3))  # row 2 f + k of G: component k on face f, one column per corner
-    grad_hat[:, 0, 0], grad_hat[:, 0, 1], grad_hat[:, 0, 2] = -y, y, 0.0
-    grad_hat[:, 1, 0], grad_hat[:, 1, 1], grad_hat[:, 1, 2] = x - l2, -x, l2
-    grad_hat /= (2.0 * areas)[:, None, None]
-    index = np.int32 if max(n_vertices, 6 * m + 1) < np.iinfo(np.int32).max else np.int64
-    columns = np.repeat(faces[:, None, :].astype(index), 2, axis=1).ravel()
-    G = sp.csr_matrix((grad_hat.ravel(), columns, np.arange(0, 6 * m + 1, 3, dtype=index)), shape=(2 * m, n_vertices))
-    return Operators(L, mass, G, areas, 2, boundary, faces, mean_edge_length, unit_exponent)
 
 
 class TriangleMesh(MeshDomain):
@@ -235,42 +177,23 @@ class TriangleMesh(MeshDomain):
 
     def _build_operators(self, part):
         sub = self.subdivision
-        V, F = sub.vertices, sub.faces
-        n = V.shape[0]
-        edges, side_edge = sub.mesh_edges, sub.side_edge
-        edge_faces = np.bincount(side_edge.ravel(), minlength=edges.shape[0])
-        boundary = np.zeros(n, dtype=bool)
-        boundary[edges[edge_faces == 1].ravel()] = True
-        edge_lengths = np.linalg.norm(V[edges[:, 0]] - V[edges[:, 1]], axis=1)
-        h = part_means(edge_lengths, part[edges[:, 0]], self.n_parts)  # in each part's unit
-        if not (h > 0).all():
-            bad = int(np.flatnonzero(~(h > 0))[0])
-            raise InvalidMeshError(
-                f"all edges of connected part {bad} (of {self.n_parts}) have zero length: it collapses to a point"
-            )
-        # Work at unit mean edge length so results scale exactly with the mesh.
-        face_part = part[F[:, 0]]
-        face_h = h[face_part][:, None]
-        unit_lengths = edge_lengths[side_edge] / face_h
-        tri, eps = self._intrinsic(unit_lengths, F, side_edge, face_part, 1e-6)
-        least = part_extremes(triangle_slack(tri.lengths).min(axis=1), face_part, self.n_parts)  # flips keep parts
-        self.thin_parts = np.flatnonzero(least < THIN_TRIANGLE_SLACK) if self.robust else np.zeros(0, np.int64)
-        if self.thin_parts.size:
-            delta = np.where(least < THIN_TRIANGLE_SLACK, THIN_TRIANGLE_SLACK, 1e-6)
-            tri, eps = self._intrinsic(unit_lengths, F, side_edge, face_part, delta)
-        self.mollification = np.ldexp(eps * h, self.unit_exponent)
+        robust = self.robust
+        built = intrinsic_operators(
+            sub.vertices,
+            sub.faces,
+            sub.mesh_edges,
+            sub.side_edge,
+            part=part,
+            n_parts=self.n_parts,
+            flip=robust,
+            thin_slack=THIN_TRIANGLE_SLACK if robust else None,
+            unit_exponent=self.unit_exponent,
+        )
+        self.n_flips, self.thin_parts, self.intrinsic = built.n_flips, built.thin_parts, built.intrinsic
+        self.mollification = np.ldexp(built.eps * built.h, self.unit_exponent)
         # Only the build needs the refined mesh's edges (1M vertices: 48-96 MB).
         self.subdivision = dataclasses.replace(sub, mesh_edges=None, side_edge=None)
-        tri.lengths *= face_h
-        self.intrinsic = tri
-        return triangle_operators(tri.lengths, tri.faces, n, boundary, h[part], self.unit_exponent[part])
-
-    def _intrinsic(self, unit_lengths, faces, side_edge, face_part, relative_delta):
-        """Mollified (per part) and, when robust, intrinsic Delaunay triangulation; and the mollification."""
-        lengths, eps = mollify(unit_lengths, relative_delta, part=face_part, n_parts=self.n_parts)
-        tri = IntrinsicTriangulation.from_mesh(None, faces, lengths=lengths, side_edge=side_edge)
-        self.n_flips = tri.flip_to_delaunay() if self.robust else 0
-        return tri, eps
+        return built.operators
 
     def eikonal_triangles(self):
         """The intrinsic Delaunay triangles and the (refined) mesh's own, with their lengths.
