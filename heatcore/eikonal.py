@@ -91,6 +91,13 @@ class CornerTable:
         Rows ``c, x, y, ca, cb``; ``c`` is ``nan`` where the triangle update is not allowed (a face
         repeating a vertex, or a degenerate face); ``ca``/``cb`` are ``inf``
         where the edge update is not allowed (the edge is a loop).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> table = CornerTable(3, [np.array([[0, 1, 2]])], [np.array([[1.0, 1.0, 1.0]])])
+    >>> table.start.tolist(), table.geom[:3, 0].round(3).tolist()  # an equilateral triangle
+    ([0, 1, 2, 3], [1.0, 0.5, 0.866])
     """
 
     def __init__(self, n, faces, lengths):
@@ -276,6 +283,16 @@ def refine_distance(
     Each connected part is swept in its own unit and its own edge lengths
     (bands start at distance 0, not at the nearest vertex of all parts), so
     its result does not depend on the other parts.
+
+    Examples
+    --------
+    >>> import heatcore as hc
+    >>> V, F = hc.io.load_demo_mesh()
+    >>> smooth = hc.HeatSolver(hc.TriangleMesh(V, F))
+    >>> pins = smooth.domain.source_pins([0])
+    >>> high = refine_distance(smooth.domain, smooth.distance_from_pins(pins), pins)
+    >>> bool(abs(high - smooth.distance_from_pins(pins)).max() < 0.05 * high.max())
+    True
     """
     unit = domain.operators.unit_exponent
     h = np.broadcast_to(domain.operators.mean_edge_length, np.shape(phi))

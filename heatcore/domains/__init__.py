@@ -10,7 +10,7 @@ Examples
 >>> import numpy as np
 >>> from heatcore.domains import TriangleMesh
 >>> mesh = TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0)
->>> mesh.operators.L.shape
+>>> mesh.operators.laplacian.shape
 (3, 3)
 """
 

@@ -37,6 +37,12 @@ class SourcePins:
     vertices : (k,) int array, operator vertex indices (unique)
     values : (k,) float array, distance at each pinned vertex (>= 0)
     heat : (n,) float array, the heat step's right-hand side
+
+    Examples
+    --------
+    >>> pins = SourcePins.combine(4, [2, 0, 2], [0.5, 0.0, 0.25], [2, 0], [1.0, 1.0])
+    >>> pins.vertices.tolist(), pins.values.tolist(), pins.heat.tolist()
+    ([0, 2], [0.0, 0.25], [1.0, 0.0, 1.0, 0.0])
     """
 
     vertices: np.ndarray
@@ -218,6 +224,15 @@ def edge_list(edges, n_vertices):
     ------
     InvalidSourceError
         Not of shape ``(k, 2)``, or vertex indices that :func:`index_list` rejects.
+
+    Examples
+    --------
+    >>> edge_list([[0, 1], [1, 2]], 3).tolist()
+    [[0, 1], [1, 2]]
+    >>> edge_list([0, 1], 3)
+    Traceback (most recent call last):
+    ...
+    heatcore.errors.InvalidSourceError: edges must have shape (k, 2), got (2,)
     """
     try:
         e = np.asarray(edges)
@@ -266,7 +281,27 @@ def index_list(indices, upper, what):
 
 
 def barycentric_array(bary, count, corners):
-    """Validate barycentric coordinates: shape ``(count, corners)``, finite, >= 0, summing to 1."""
+    """Validate barycentric coordinates: shape ``(count, corners)``, finite, >= 0, summing to 1.
+
+    Returns
+    -------
+    (count, corners) float array
+        The coordinates, rounding below zero clipped and rows renormalized.
+
+    Raises
+    ------
+    InvalidSourceError
+        Wrong shape, not finite, negative, or rows not summing to 1.
+
+    Examples
+    --------
+    >>> barycentric_array([[0.2, 0.3, 0.5]], 1, 3).tolist()
+    [[0.2, 0.3, 0.5]]
+    >>> barycentric_array([[0.5, 0.6, 0.0]], 1, 3)
+    Traceback (most recent call last):
+    ...
+    heatcore.errors.InvalidSourceError: barycentric coordinates of point 0 are [0.5, 0.6, 0.0]: they must be >= 0 and sum to 1
+    """
     try:
         b = np.asarray(bary, dtype=float)
         b = b.reshape(-1, corners) if b.size else np.zeros((0, corners))

@@ -204,8 +204,8 @@ class TriangleMesh(MeshDomain):
         --------
         >>> import numpy as np
         >>> faces, lengths = TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0).eikonal_triangles()
-        >>> len(faces), float(lengths[1].max().round(3))
-        (2, 1.0)
+        >>> len(faces), float(lengths[1].max().round(3))  # the sides of the triangle (1,0,0), (0,1,0), (0,0,1)
+        (2, 1.414)
         """
         tri, sub = self.intrinsic, self.subdivision
         return [tri.faces, sub.faces], [tri.lengths, face_edge_lengths(sub.vertices, sub.faces)]

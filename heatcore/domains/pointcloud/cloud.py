@@ -17,7 +17,8 @@ import numpy as np
 from ...errors import InvalidMeshError, InvalidOptionError, InvalidSourceError
 from ..cotan import intrinsic_operators
 from ..refine import auto_refine_levels, midpoint_subdivide
-from ..sources import SourcePins, index_list
+from ..base import Domain
+from ..sources import index_list
 from ..validate import vertex_array
 from .local_delaunay import local_delaunay_triangles
 from .neighborhoods import merge_duplicates, nearest_neighbors, pca_normals
@@ -29,7 +30,7 @@ DEFAULT_K = 30
 MIN_K, MAX_K = 6, 256
 
 
-class PointCloud:
+class PointCloud(Domain):
     """A point cloud as a heat-method domain.
 
     Parameters
@@ -86,6 +87,7 @@ class PointCloud:
     """
 
     element_name = "triangle"
+    domain_name = "point cloud"
     intrinsic = None  # the eikonal refinement (accuracy="high") needs a mesh
 
     def __init__(self, P, normals=None, *, k=None, refine="auto"):
@@ -148,32 +150,16 @@ class PointCloud:
         """Operator vertex of each input point (``-1`` for points in no triangle)."""
         return self._operator_vertex[self.point_map]
 
-    def source_pins(self, vertices=None, **other):
-        """Source points (indices into the input points) as :class:`SourcePins`.
-
-        Raises
-        ------
-        InvalidSourceError
-            No source, indices out of range, or an isolated point (one that
-            lies in no triangle: too far from every other point).
-        """
-        if other:
-            raise InvalidSourceError(
-                f"point clouds take source points (vertex indices) only, not {', '.join(sorted(other))}"
-            )
-        if vertices is None:
-            raise InvalidSourceError("no source given: pass point indices")
+    def _pin_vertices(self, vertices, pins):
+        """Source points (indices into the input points); a typed error for an isolated point."""
         v = index_list(vertices, self.n_input_vertices, "point")
-        if v.size == 0:
-            raise InvalidSourceError("no source given: the list of source points is empty")
         op = self.output_vertices[v]
         if (op < 0).any():
             bad = int(v[op < 0][0])
             raise InvalidSourceError(
                 f"point {bad} is isolated (no neighbor close enough to form a triangle), so it cannot be a source"
             )
-        ones = np.ones(op.size)
-        return SourcePins.combine(self.operators.n_vertices, op, np.zeros(op.size), op, ones)
+        pins.add(op)
 
 
 def _neighborhood_size(k, n):
