@@ -9,7 +9,8 @@ Examples
 >>> d1, d2 = solver.distance([0]), solver.distance([5, 9])
 """
 
-from . import io, linalg
+from . import io, linalg, options
+from .domains.base import Domain
 from .domains.operators import Operators
 from .domains.pointcloud import PointCloud
 from .domains.polygon import PolygonMesh
@@ -28,6 +29,7 @@ from .heat import HeatSolver
 __version__ = "0.1.0"
 
 __all__ = [
+    "Domain",
     "HeatSolver",
     "HeatcoreError",
     "HeatcoreWarning",
@@ -43,6 +45,7 @@ __all__ = [
     "geodesic_distance",
     "io",
     "linalg",
+    "options",
 ]
 
 

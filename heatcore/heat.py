@@ -23,14 +23,16 @@ Examples
 import logging
 import time
 import weakref
+from collections.abc import Iterable, Mapping
 from concurrent.futures import Future
 
 import numpy as np
 import scipy.sparse as sp
 
 from .domains.parts import first_of_each, hop_diameters, vertex_components, vertex_graph
-from .domains.sources import source_keywords
-from .errors import InvalidOptionError, SolverError
+from .domains.sources import SourcePins, source_keywords
+from .errors import InvalidOptionError, InvalidSourceError, SolverError
+from .options import check
 from .linalg import (
     Ordering,
     choose_backend,
@@ -45,8 +47,8 @@ log = logging.getLogger("heatcore")
 #: Factorizations and orderings of each live domain, shared by its solvers (see :func:`domain_factors`).
 _DOMAIN_FACTORS = weakref.WeakKeyDictionary()
 
-BOUNDARY_CONDITIONS = ("robin", "neumann", "dirichlet")
-ACCURACY_MODES = ("smooth", "high")
+#: The solver's options, declared in :mod:`heatcore.options`.
+OPTION_NAMES = ("m", "boundary", "accuracy", "backend")
 
 #: A heat gradient smaller than this times ``u / h`` is rounding noise (an exact
 #: saddle of the heat) and gets no direction in the unit field.
@@ -56,6 +58,21 @@ SADDLE_GRADIENT = 1e-9
 #: prefactored Laplacian (one multi-right-hand-side solve); beyond, it factors
 #: the pinned system for that query.
 MAX_PRECOMPUTED_PINS = 256
+
+#: Default bound (MB) on the working memory of :meth:`HeatSolver.distances`:
+#: blocks of sources are solved in chunks of columns that fit.
+QUERY_MEMORY_MB = 256
+#: Multi-column solves of :meth:`HeatSolver.distances` go in calls of at most
+#: this many columns: CHOLMOD's simplicial solve (the cholmod backend) takes 4
+#: columns at a time through another kernel than 1 to 3, with another rounding,
+#: so with at most 3 every column is bit for bit its one-column solve and a
+#: row never depends on the block it was computed in (measured cost: within
+#: the noise of one multi-column call; see docs/batch.md).
+EXACT_SOLVE_COLUMNS = 3
+#: The unit field of a block is computed in tiles of columns whose element
+#: arrays take about this many bytes: elementwise passes over arrays that stay
+#: in the processor's cache (measured fastest on nefertiti and spot).
+UNIT_FIELD_TILE_BYTES = 4 * 2**20
 
 
 class HeatSolver:
@@ -113,12 +130,7 @@ class HeatSolver:
     """
 
     def __init__(self, domain, *, m=1.0, boundary="robin", accuracy="smooth", backend="auto"):
-        if not (isinstance(m, (int, float, np.floating, np.integer)) and np.isfinite(m) and m > 0):
-            raise InvalidOptionError(f"time factor m must be a positive finite number, got {m!r}")
-        if boundary not in BOUNDARY_CONDITIONS:
-            raise InvalidOptionError(f"boundary must be one of {BOUNDARY_CONDITIONS}, got {boundary!r}")
-        if accuracy not in ACCURACY_MODES:
-            raise InvalidOptionError(f"accuracy must be one of {ACCURACY_MODES}, got {accuracy!r}")
+        m, boundary, accuracy, backend = (check(k, v) for k, v in zip(OPTION_NAMES, (m, boundary, accuracy, backend)))
         if accuracy == "high" and not domain.supports_high_accuracy:
             raise InvalidOptionError(f"accuracy='high' is available on triangle meshes, not on {type(domain).__name__}")
         self.accuracy = accuracy
@@ -234,17 +246,180 @@ class HeatSolver:
             phi = refine_distance(self.domain, phi, pins)
         return phi
 
+    def distances(self, sources_block, *, max_memory_mb=None):
+        """Geodesic distances from each of ``k`` sources: one row per source, computed together.
+
+        Row ``i`` is :meth:`distance` of ``sources_block[i]`` (the same to
+        rounding: within 1e-10 relative, ``inf`` at the same places), but the
+        sources go through one multi-column heat solve (an ``(n, k)``
+        right-hand side), one vectorized unit field and one multi-column
+        Poisson solve, instead of ``k`` queries: several times the sources per
+        second of a loop over :meth:`distance` (docs/batch.md). Each column
+        keeps its own pins (a shift with one pin per component, the small
+        dense systems with several; a source with more than
+        ``MAX_PRECOMPUTED_PINS`` pinned vertices is solved on its own, as
+        :meth:`distance` does) and its own unreachable components (``inf``).
+        With ``accuracy="high"`` the eikonal pass runs per source afterwards.
+
+        Parameters
+        ----------
+        sources_block : sequence
+            The sources, each a vertex index (int), a sequence of vertex
+            indices (one source made of several vertices: the distance to the
+            nearest), a mapping of :meth:`distance`'s keywords
+            (``{"edges": [[0, 1]]}``), or prepared
+            :class:`~heatcore.domains.sources.SourcePins`.
+        max_memory_mb : float, optional
+            Bound on the working memory (MB) of the solves: the block is
+            solved in chunks of columns that fit (:meth:`block_columns`; at
+            least one column). Default ``QUERY_MEMORY_MB`` (256). The returned
+            ``(k, n)`` rows come on top.
+
+        Returns
+        -------
+        (k, n) float array
+            ``n`` input vertices; ``inf`` where a source cannot be reached. An
+            empty block gives an empty ``(0, n)`` array.
+
+        Raises
+        ------
+        InvalidSourceError
+            A bad source, with the error :meth:`distance` raises for it, or a
+            ``sources_block`` that is not a sequence of sources.
+
+        Examples
+        --------
+        >>> import heatcore as hc
+        >>> solver = hc.HeatSolver(hc.TriangleMesh(*hc.io.load_demo_mesh()))
+        >>> D = solver.distances([0, 17, [5, 9]])
+        >>> D.shape
+        (3, 2930)
+        >>> bool(abs(D[2] - solver.distance([5, 9])).max() <= 1e-10 * D[2].max())
+        True
+        >>> solver.distances([]).shape
+        (0, 2930)
+        """
+        block = []
+        for source in _source_sequence(sources_block):  # a loop, not a comprehension: warnings point at the caller
+            block.append(self._block_source_pins(source))
+        outputs = np.asarray(self.domain.output_vertices)
+        rows = np.empty((len(block), outputs.size))
+        solo = [j for j, pins in enumerate(block) if pins.vertices.size > MAX_PRECOMPUTED_PINS]
+        for j in solo:  # factors a pinned system of its own, as distance() does
+            rows[j] = np.append(self.distance_from_pins(block[j]), np.inf)[outputs]
+        columns = sorted(set(range(len(block))).difference(solo))
+        width = self.block_columns(max_memory_mb)
+        for start in range(0, len(columns), width):
+            chunk = columns[start : start + width]
+            phi = self._distances_from_pins([block[j] for j in chunk])
+            phi = np.append(phi, np.full((1, len(chunk)), np.inf), axis=0)  # row -1 (unreferenced): inf
+            rows[chunk] = phi[outputs].T
+        return rows
+
+    def block_columns(self, max_memory_mb=None):
+        """Sources of one vertex each that :meth:`distances` solves at once within ``max_memory_mb``.
+
+        The working memory of one column is about ``8 * (10 n + (dim + 5)
+        n_elements + n_input)`` bytes (right-hand sides, the heat fields of
+        both boundary conditions, the gradient field and its norms, the
+        Poisson solution, the output row). A source whose pinned vertices
+        share a component adds ``8 n`` per pinned vertex while its column is
+        pinned (its unit responses, as in :meth:`distance`).
+
+        Parameters
+        ----------
+        max_memory_mb : float, optional
+            Default ``QUERY_MEMORY_MB``.
+
+        Returns
+        -------
+        int
+            At least 1.
+
+        Examples
+        --------
+        >>> import heatcore as hc
+        >>> solver = hc.HeatSolver(hc.TriangleMesh(*hc.io.load_demo_mesh()))
+        >>> solver.block_columns(256) > solver.block_columns(16) >= 1
+        True
+        """
+        limit = (QUERY_MEMORY_MB if max_memory_mb is None else max_memory_mb) * 2**20
+        return max(1, int(limit // self._column_bytes()))
+
+    def _column_bytes(self):
+        ops = self.ops
+        return 8 * (10 * ops.n_vertices + (ops.dim + 5) * ops.elements.shape[0] + len(self.domain.output_vertices))
+
+    def _unit_field_tile(self):
+        """Columns per tile of the block unit field: its arrays (``8 (dim + 5)`` bytes per element and column) within ``UNIT_FIELD_TILE_BYTES``."""
+        ops = self.ops
+        return max(1, int(UNIT_FIELD_TILE_BYTES // (8 * (ops.dim + 5) * ops.elements.shape[0])))
+
+    def _block_source_pins(self, source):
+        """:class:`SourcePins` of one source of a block (see :meth:`distances`)."""
+        if isinstance(source, SourcePins):
+            return source
+        if isinstance(source, Mapping):  # distance()'s keywords
+            kinds = dict(source)
+            return self.domain.source_pins(kinds.pop("vertices", None), **source_keywords(kinds, stacklevel=4))
+        return self.domain.source_pins(source)
+
+    def _distances_from_pins(self, block):
+        """:meth:`distance_from_pins` of several sources as columns ``(n, k)``, with multi-column solves."""
+        n, k = self.ops.n_vertices, len(block)
+        impulse = np.empty((n, k), order="F")  # columns contiguous: what one-column backends read
+        for j, pins in enumerate(block):
+            impulse[:, j] = pins.heat
+        u = np.asfortranarray(self.heat(impulse))  # columns contiguous
+        del impulse
+        # b = -div X per column: the unit field vectorized over tiles of columns whose element arrays stay
+        # in cache; the sparse products column by column (scipy's one-column product is the faster one).
+        gradient, n_elements, dim = self.ops.gradient, self.ops.elements.shape[0], self.ops.dim
+        u_first = u[self.ops.elements[:, 0]].T  # (k, n_elements)
+        b = np.empty((n, k), order="F")
+        width = self._unit_field_tile()
+        for start in range(0, k, width):
+            tile = range(start, min(start + width, k))
+            g = np.empty((dim, len(tile), n_elements))  # components first: contiguous passes over the tile
+            for i, j in enumerate(tile):
+                g[:, i, :] = (gradient @ u[:, j]).reshape(n_elements, dim).T
+            g = self._scale_to_unit(g, np.ascontiguousarray(u_first[start : tile.stop]), self.ops.volumes)
+            for i, j in enumerate(tile):
+                b[:, j] = self._gradient_transposed @ g[:, i, :].T.ravel()  # element-major, as G's rows
+        del u, u_first, g
+        b[self._ground] = 0.0
+        phi = _solve_columns(self._poisson, b)  # as _solve_grounded, for every column
+        del b
+        for j, pins in enumerate(block):
+            column = phi[:, j]  # a view: pinned in place, with the small dense systems of _pinned_poisson
+            self._apply_pins(column, pins.vertices, pins.values, self._unit_responses)
+            column[pins.vertices] = pins.values
+        np.maximum(phi, 0.0, out=phi)
+        if self.n_components > 1:
+            hit = np.zeros((self.n_components, k), dtype=bool)
+            for j, pins in enumerate(block):
+                hit[self.component[pins.vertices], j] = True
+            phi[~hit[self.component]] = np.inf
+        exponent = self.ops.unit_exponent
+        phi = np.ldexp(phi, exponent[:, None] if np.ndim(exponent) else exponent)
+        if self.accuracy == "high":
+            from .eikonal import refine_distance
+
+            for j, pins in enumerate(block):
+                phi[:, j] = refine_distance(self.domain, np.ascontiguousarray(phi[:, j]), pins)
+        return phi
+
     def heat(self, impulse):
-        """Heat after one backward Euler step of length ``t`` from ``impulse``."""
-        u_neumann = self._heat_neumann.solve(impulse)
+        """Heat after one backward Euler step of length ``t`` from ``impulse`` ((n,), or (n, k): k columns at once)."""
+        u_neumann = _solve_columns(self._heat_neumann, impulse)
         if self.boundary == "neumann":
             return u_neumann
         u = np.zeros_like(impulse)
         if self._heat_dirichlet is not None:
-            u[self._interior] = self._heat_dirichlet.solve(impulse[self._interior])
+            u[self._interior] = _solve_columns(self._heat_dirichlet, impulse[self._interior])
         # A component whose heat all sits on the boundary gets none under
         # Dirichlet conditions: use the Neumann solution there.
-        cold = np.bincount(self.component, weights=np.abs(u), minlength=self.n_components) == 0
+        cold = _component_sums(self.component, np.abs(u), self.n_components) == 0
         if self.boundary == "robin":
             u = 0.5 * (u + u_neumann)
         fallback = cold[self.component]
@@ -258,6 +433,17 @@ class HeatSolver:
     def _scaled_unit_field(self, u, weights):
         """``weights`` times :meth:`unit_field` (one pass fewer over the elements than multiplying after)."""
         g = (self.ops.gradient @ u).reshape(-1, self.ops.dim)
+        return self._scale_to_unit(g.T, u[self.ops.elements[:, 0]], weights).T
+
+    def _scale_to_unit(self, g, u_first, weights):
+        """Turn heat gradients into ``-weights * g / |g|`` in place (0 where they vanish or are noise).
+
+        ``g`` holds the gradient's components axis first: ``(dim, n_elements)``,
+        or ``(dim, k, n_elements)`` for ``k`` heat fields at once (each gets
+        exactly the arithmetic of one); ``u_first`` is the heat at each
+        element's first vertex, ``(n_elements,)`` or ``(k, n_elements)``.
+        Returns ``g`` (a new array where non-finite gradients were zeroed).
+        """
         norm2 = _squared_row_norms(g)
         if not np.isfinite(norm2.sum()):  # rare: a non-finite gradient gets no direction
             g = np.where(np.isfinite(g), g, 0.0)
@@ -265,20 +451,20 @@ class HeatSolver:
         norm = np.sqrt(norm2)
         # Far from the sources u (and so g) can be 1e-200, whose square
         # underflows: recompute those norms with hypot, which does not.
-        tiny = np.flatnonzero(norm2 < 1e-280)
-        if tiny.size:
-            redo = np.hypot(g[tiny, 0], g[tiny, 1])
-            for k in range(2, g.shape[1]):
-                redo = np.hypot(redo, g[tiny, k])
+        tiny = np.nonzero(norm2 < 1e-280)
+        if tiny[0].size:
+            redo = np.hypot(g[0][tiny], g[1][tiny])
+            for axis in range(2, len(g)):
+                redo = np.hypot(redo, g[axis][tiny])
             norm[tiny] = np.where(redo > 0, redo, np.inf)  # a zero gradient gets X = 0
         # A gradient below the rounding of u itself (an exact saddle of the heat, as at the far point
         # of a symmetric part: 2e-15 of u per edge length there, 5e-3 and more elsewhere) has no
         # direction: X = 0 there, not a direction made of rounding noise that any change of
         # elimination order (another part beside it) would turn elsewhere.
-        norm[norm * self._element_h < SADDLE_GRADIENT * u[self.ops.elements[:, 0]]] = np.inf
+        norm[norm * self._element_h < SADDLE_GRADIENT * u_first] = np.inf
         scale = np.negative(weights) / norm
-        for column in g.T:  # column by column: 3x faster than broadcasting over rows of 2 or 3
-            column *= scale
+        for component in g:  # axis by axis: 3x faster than broadcasting over rows of 2 or 3
+            component *= scale
         return g
 
     def _factor_heat(self, backend):
@@ -326,22 +512,38 @@ class HeatSolver:
     def _pinned_poisson(self, b, pins, reached):
         """Minimize the Dirichlet-energy misfit with ``phi[pins.vertices] = pins.values``."""
         P, d = pins.vertices, pins.values
-        comp_of_pin = self.component[P]
         if P.size > MAX_PRECOMPUTED_PINS:
             everywhere = np.ones(self.ops.n_vertices, dtype=bool)
             return self._factor_pinned(b, P, d, everywhere if reached is None else reached)
-        psi = self._solve_grounded(b)
+        return self._apply_pins(self._solve_grounded(b), P, d, self._unit_responses)
+
+    def _unit_responses(self, vertices):
+        """Grounded solutions ``L^-1 e_v`` for the operator vertices ``v``, as columns."""
+        E = np.zeros((self.ops.n_vertices, vertices.size))
+        E[vertices, np.arange(vertices.size)] = 1.0
+        return self._solve_grounded(E)  # column j is zero outside the component of its vertex
+
+    def _several_pins(self, P):
+        """The pins of ``P`` that share their component with another pin (mask), and each pin's component."""
+        comp_of_pin = self.component[P]
+        _, local, count = np.unique(comp_of_pin, return_inverse=True, return_counts=True)
+        return count[local] > 1, comp_of_pin
+
+    def _apply_pins(self, psi, P, d, responses):
+        """Make the grounded solution ``psi`` take the values ``d`` at the pins ``P`` (in place).
+
+        ``responses(vertices)`` gives :meth:`_unit_responses` of the pins that
+        share a component with another pin.
+        """
         # One pin in a component: a shift. Several: point loads mu at its pins and a constant,
         # one small dense system per component, so that no rounding crosses parts.
-        _, local, count = np.unique(comp_of_pin, return_inverse=True, return_counts=True)
-        single = count[local] == 1
+        multiple, comp_of_pin = self._several_pins(P)
+        single = ~multiple
         shift = np.zeros(self.n_components)
         shift[comp_of_pin[single]] = d[single] - psi[P[single]]
-        several = np.flatnonzero(~single)
+        several = np.flatnonzero(multiple)
         if several.size:
-            E = np.zeros((self.ops.n_vertices, several.size))
-            E[P[several], np.arange(several.size)] = 1.0
-            Z = self._solve_grounded(E)  # column j is zero outside the component of its pin
+            Z = responses(P[several])
             mu = np.zeros(several.size)
             for c in np.unique(comp_of_pin[several]):
                 cols = np.flatnonzero(comp_of_pin[several] == c)
@@ -389,11 +591,42 @@ def domain_factors(domain):
 
 
 def _squared_row_norms(g):
-    """``(g**2).sum(axis=1)`` for a few columns, column by column (twice as fast as over rows)."""
-    norm2 = g[:, 0] * g[:, 0]
-    for column in g.T[1:]:
-        norm2 += column * column
+    """``(g**2).sum(axis=0)`` for a few components, component by component (twice as fast as over rows)."""
+    norm2 = g[0] * g[0]
+    for component in g[1:]:
+        norm2 += component * component
     return norm2
+
+
+def _source_sequence(sources_block):
+    """The sources of a block as a list; a typed error for anything that is not a sequence of sources."""
+    single = isinstance(sources_block, (str, bytes, Mapping, SourcePins)) or not isinstance(sources_block, Iterable)
+    if single or isinstance(sources_block, np.ndarray) and sources_block.ndim == 0:
+        raise InvalidSourceError(
+            f"sources_block must be a sequence of sources (one per row), got {type(sources_block).__name__}; "
+            "for one source use distance()"
+        )
+    return list(sources_block)
+
+
+def _solve_columns(factor, rhs):
+    """``factor.solve(rhs)``, for ``(n, k)`` in calls of at most ``EXACT_SOLVE_COLUMNS`` columns."""
+    if rhs.ndim == 1 or rhs.shape[1] <= EXACT_SOLVE_COLUMNS:
+        return factor.solve(rhs)
+    out = np.empty(rhs.shape, order="F")
+    for start in range(0, rhs.shape[1], EXACT_SOLVE_COLUMNS):
+        group = slice(start, start + EXACT_SOLVE_COLUMNS)
+        out[:, group] = factor.solve(rhs[:, group])
+    return out
+
+
+def _component_sums(component, values, n_components):
+    """Sums of ``values`` ((n,) or (n, k)) over each component: (n_components,) or (n_components, k)."""
+    if values.ndim == 1:
+        return np.bincount(component, weights=values, minlength=n_components)
+    k = values.shape[1]
+    index = (component[:, None] * k + np.arange(k)).ravel()
+    return np.bincount(index, weights=values.ravel(), minlength=n_components * k).reshape(n_components, k)
 
 
 def _grounded(L, ground):

@@ -21,9 +21,9 @@ import numpy as np
 from ..errors import (
     HeatcoreWarning,
     InvalidMeshError,
-    InvalidOptionError,
     InvalidSourceError,
 )
+from ..options import check
 from .base import MeshDomain
 from .cotan import intrinsic_operators, triangle_operators  # noqa: F401 (triangle_operators: importable from here)
 from .intrinsic import face_edge_lengths
@@ -129,12 +129,9 @@ class TriangleMesh(MeshDomain):
 
     def __init__(self, V, F, *, robust=True, refine="auto", weld=0.0):
         self.vertices, self.faces = mesh_arrays(V, F)
-        if refine != "auto" and not (
-            isinstance(refine, (int, np.integer)) and not isinstance(refine, bool) and 0 <= refine <= 8
-        ):
-            raise InvalidOptionError(f"refine must be 'auto' or an integer 0..8, got {refine!r}")
+        refine = check("refine", refine)
         tolerance = weld_tolerance(weld)
-        self.robust = bool(robust)
+        self.robust = check("robust", robust)
         n = self.vertices.shape[0]
         representative, self.n_welded = weld_map(self.vertices, tolerance) if tolerance is not None else (None, 0)
         faces = self.faces if representative is None else representative[self.faces]

@@ -20,7 +20,7 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from ..errors import InvalidOptionError
+from ..options import check
 
 
 def weld_tolerance(weld):
@@ -31,13 +31,7 @@ def weld_tolerance(weld):
     >>> weld_tolerance(0), weld_tolerance(None), weld_tolerance(1e-6)
     (0.0, None, 1e-06)
     """
-    if weld is None or weld is False:
-        return None
-    if isinstance(weld, (bool, np.bool_)) or not isinstance(weld, (int, float, np.integer, np.floating)):
-        raise InvalidOptionError(f"weld must be a tolerance >= 0 or None (no welding), got {weld!r}")
-    if not (np.isfinite(weld) and weld >= 0):
-        raise InvalidOptionError(f"weld must be a finite tolerance >= 0 or None (no welding), got {weld!r}")
-    return float(weld)
+    return None if weld is False else check("weld", weld)
 
 
 def weld_map(V, tolerance=0.0):

@@ -17,6 +17,7 @@ import numpy as np
 from ...errors import InvalidMeshError, InvalidOptionError, InvalidSourceError
 from ..cotan import intrinsic_operators
 from ..refine import auto_refine_levels, midpoint_subdivide
+from ...options import check
 from ..base import Domain
 from ..sources import index_list
 from ..validate import vertex_array
@@ -88,7 +89,6 @@ class PointCloud(Domain):
 
     element_name = "triangle"
     domain_name = "point cloud"
-    intrinsic = None  # the eikonal refinement (accuracy="high") needs a mesh
 
     def __init__(self, P, normals=None, *, k=None, refine="auto"):
         self.points = vertex_array(P, name="P")
@@ -99,10 +99,7 @@ class PointCloud(Domain):
         if n < 3:
             raise InvalidMeshError(f"a point cloud needs at least 3 distinct points, got {n}")
         self.k = _neighborhood_size(k, n)
-        if refine != "auto" and not (
-            isinstance(refine, (int, np.integer)) and not isinstance(refine, bool) and 0 <= refine <= 4
-        ):
-            raise InvalidOptionError(f"refine must be 'auto' or an integer 0..4, got {refine!r}")
+        refine = check("refine", refine)
 
         nbr, dist = nearest_neighbors(self.distinct, self.k)
         if normals is None:
