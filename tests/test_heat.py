@@ -82,7 +82,7 @@ def test_face_point_source_is_euclidean_on_a_plane():
     V, F = grid(31, 31)
     f, bary = 400, np.array([0.2, 0.3, 0.5])
     p = bary @ V[F[f]]
-    d = hc.geodesic_distance(V, F, face_points=([f], [bary]))
+    d = hc.geodesic_distance(V, F, points=([f], [bary]))
     euclid = np.linalg.norm(V - p, axis=1)
     assert np.allclose(d[F[f]], euclid[F[f]], rtol=1e-12)
     assert relative_error(d, euclid) < 0.02
@@ -97,7 +97,7 @@ def test_edge_and_face_region_sources():
     assert np.all(d[bottom] == 0)
     assert relative_error(d, V[:, 1]) < 0.01
     low = np.flatnonzero(V[F].mean(axis=1)[:, 1] < 0.2)
-    d = hc.geodesic_distance(V, F, faces=low)
+    d = hc.geodesic_distance(V, F, region=low)
     top = V[F[low]][:, :, 1].max()
     assert relative_error(d, np.maximum(V[:, 1] - top, 0)) < 0.01
 
@@ -108,7 +108,7 @@ def test_sources_on_refined_coarse_mesh_keep_exact_values():
     F = np.array([[0, 1, 2], [0, 2, 3]])
     d = hc.geodesic_distance(V, F, edges=[[0, 1]])
     assert np.allclose(d, [0, 0, 1, 1], atol=0.01)
-    d = hc.geodesic_distance(V, F, face_points=([0], [[1 / 3, 1 / 3, 1 / 3]]))
+    d = hc.geodesic_distance(V, F, points=([0], [[1 / 3, 1 / 3, 1 / 3]]))
     centroid = V[F[0]].mean(axis=0)
     assert np.allclose(d[:3], np.linalg.norm(V[:3] - centroid, axis=1))
     assert abs(d[3] - np.linalg.norm(V[3] - centroid)) < 0.02

@@ -361,7 +361,7 @@ def test_region_and_edge_sources():
     V, Q = quad_grid(21)
     solver = hc.HeatSolver(PolygonMesh(V, Q))
     region = [0, 1, 20, 21]  # the 2x2 quads at the origin corner: [0, 0.1]^2
-    d = solver.distance(faces=region)
+    d = solver.distance(region=region)
     corner = np.clip(V[:, :2], 0, 0.1)
     exact = np.linalg.norm(V[:, :2] - corner, axis=1)
     assert d[exact == 0].max() == 0
@@ -371,7 +371,7 @@ def test_region_and_edge_sources():
     with pytest.raises(hc.InvalidSourceError, match="not an edge"):
         solver.distance(edges=[[0, 22]])
     with pytest.raises(hc.InvalidSourceError, match="out of range"):
-        solver.distance(faces=[400])
+        solver.distance(region=[400])
     with pytest.raises(hc.InvalidSourceError, match="no source"):
         solver.distance()
 
@@ -388,7 +388,7 @@ def test_degenerate_polygons():
     d = hc.HeatSolver(mesh).distance([60])
     assert mean_relative_error(d, np.linalg.norm(V - V[60], axis=1)) < 0.03
     with pytest.raises(hc.InvalidSourceError, match="ignored"):
-        hc.HeatSolver(mesh).distance(faces=[len(polys) - 1])
+        hc.HeatSolver(mesh).distance(region=[len(polys) - 1])
     # zero-area polygons (collinear corners, a polygon on one point) stay finite: mollified
     Vz = np.vstack([V, [[1.1, 0, 0], [1.2, 0, 0], [1.3, 0, 0]]])
     line = [[10, 121, 122, 123, 122, 121]]  # a sliver from the grid corner along the x axis

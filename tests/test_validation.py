@@ -78,11 +78,11 @@ def test_bad_region_and_point_sources():
     with pytest.raises(hc.InvalidSourceError, match="not an edge"):
         hc.geodesic_distance(V0, F0, edges=[[0, 80]])
     with pytest.raises(hc.InvalidSourceError, match="out of range"):
-        hc.geodesic_distance(V0, F0, faces=[len(F0)])
+        hc.geodesic_distance(V0, F0, region=[len(F0)])
     with pytest.raises(hc.InvalidSourceError, match="sum to 1"):
-        hc.geodesic_distance(V0, F0, face_points=([0], [[0.5, 0.6, 0.1]]))
+        hc.geodesic_distance(V0, F0, points=([0], [[0.5, 0.6, 0.1]]))
     with pytest.raises(hc.InvalidSourceError, match="barycentric coordinate rows"):
-        hc.geodesic_distance(V0, F0, face_points=([0, 1], [[0.5, 0.5, 0.0]]))
+        hc.geodesic_distance(V0, F0, points=([0, 1], [[0.5, 0.5, 0.0]]))
 
 
 def test_zero_area_and_duplicate_faces_are_handled():
