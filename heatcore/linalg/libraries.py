@@ -34,7 +34,6 @@ log = logging.getLogger(__name__)
 #: Each optional library, with the submodules that importing it must load too.
 SUBMODULES = {
     "cvxopt": ("cvxopt.cholmod", "cvxopt.amd"),
-    "pymetis": ("pymetis._internal",),
 }
 
 #: The versions whose internals heatcore's ctypes readers were written against and

@@ -21,6 +21,7 @@ True
 """
 
 import ctypes
+import importlib
 
 import numpy as np
 
@@ -122,8 +123,8 @@ def _load():
     pymetis = optional("pymetis")
     if pymetis is None or not version_is_known("pymetis", "METIS nested dissection"):
         return None
-    internal = pymetis._internal
     try:
+        internal = importlib.import_module("pymetis._internal")  # private: its name may change
         library = ctypes.CDLL(internal.__file__)
         function, set_defaults = library.METIS_NodeND, library.METIS_SetDefaultOptions
         index_type = {32: np.int32, 64: np.int64}[internal._idx_type_width()]
@@ -133,7 +134,7 @@ def _load():
         # One refinement pass and random matching: 4.4 s instead of 5.2 s on a 1M-vertex sphere,
         # for a factor as small as with METIS's defaults.
         options[[keys.NITER, keys.CTYPE, keys.NO2HOP]] = [1, 0, 1]
-    except (AttributeError, KeyError, OSError, TypeError) as exc:
+    except (ImportError, AttributeError, KeyError, OSError, TypeError) as exc:
         warn_once(
             ("metis", "library"),
             "METIS nested dissection: cannot use the METIS inside pymetis (%s); ordering by minimum degree "
