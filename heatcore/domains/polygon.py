@@ -51,7 +51,7 @@ from .parts import part_extremes, part_means, vertex_components
 from .polygon_shape import fan_triangulate, simple_polygons  # noqa: F401 (fan_triangulate: public here too)
 from .refine import unique_edges
 from .sources import edge_list, index_list
-from .triangle import triangle_operators
+from .cotan import triangle_operators
 from .validate import vertex_array
 
 

@@ -25,7 +25,7 @@ from ..errors import (
 )
 from ..options import check
 from .base import MeshDomain
-from .cotan import intrinsic_operators, triangle_operators  # noqa: F401 (triangle_operators: importable from here)
+from .cotan import intrinsic_operators
 from .intrinsic import face_edge_lengths
 from .parts import in_part_units, unit_exponents, vertex_components
 from .refine import (

@@ -20,9 +20,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InvalidMeshError, InvalidOptionError, NoFacesError
+from ..errors import InvalidMeshError, NoFacesError
+from ..options import OPTIONS, check
 
-DOMAIN_KINDS = ("auto", "triangle", "polygon", "tet", "points")
+#: How a file may be read (the ``domain`` option of :mod:`heatcore.options`).
+DOMAIN_KINDS = OPTIONS["domain"].choices
 VOLUME_SUFFIXES = {".msh", ".vtu", ".vtk", ".mesh", ".node", ".ele"}
 POINT_SUFFIXES = {".xyz", ".pts", ".txt"}
 
@@ -117,8 +119,7 @@ def read_domain(path, kind="auto"):
     >>> f.kind, f.vertices.shape, f.surface
     ('points', (3, 3), None)
     """
-    if kind not in DOMAIN_KINDS:
-        raise InvalidOptionError(f"domain kind must be one of {DOMAIN_KINDS}, got {kind!r}")
+    kind = check("domain", kind)
     from .mesh import check_not_empty
 
     path = Path(path)

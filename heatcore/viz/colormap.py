@@ -14,7 +14,7 @@ Examples
 
 import numpy as np
 
-from ..errors import InvalidOptionError
+from ..options import check
 
 # fmt: off
 COLORMAPS = {
@@ -225,10 +225,7 @@ def colorize(distance, colormap="viridis", isolines=0, vmax=None, stripe_width=0
     >>> colorize(np.array([0.0, 1.0, np.inf])).round(3).tolist()
     [[0.267, 0.005, 0.329], [0.993, 0.906, 0.144], [0.5, 0.5, 0.5]]
     """
-    if colormap not in COLORMAPS:
-        raise InvalidOptionError(f"unknown colormap {colormap!r}; choose one of {sorted(COLORMAPS)}")
-    if not (isinstance(isolines, (int, np.integer)) and isolines >= 0):
-        raise InvalidOptionError(f"isolines must be a non-negative integer, got {isolines!r}")
+    colormap, isolines = check("colormap", colormap), check("isolines", isolines)
     d = np.asarray(distance, dtype=float)
     finite = np.isfinite(d)
     if vmax is None:
