@@ -78,7 +78,7 @@ def test_high_accuracy_runs_the_eikonal_pass_per_source(spot):
 
 
 def test_other_domains():
-    V, F = grid(9, 9)
+    V, _ = grid(9, 9)
     quads = np.array([[i * 9 + j, i * 9 + j + 1, (i + 1) * 9 + j + 1, (i + 1) * 9 + j] for i in range(8) for j in range(8)])
     Vt = np.stack(np.meshgrid(*[np.linspace(0, 1, 4)] * 3, indexing="ij"), -1).reshape(-1, 3)
     Vt = Vt + np.random.default_rng(0).uniform(-0.05, 0.05, Vt.shape)
