@@ -14,7 +14,6 @@ Examples
 True
 """
 
-import numpy as np
 import scipy.sparse as sp
 
 from ..errors import SolverError
@@ -39,7 +38,7 @@ class QDLDLFactor(Factor):
 
     Examples
     --------
-    >>> import scipy.sparse as sp
+    >>> import numpy as np, scipy.sparse as sp
     >>> QDLDLFactor(sp.diags([2.0, 4.0]).tocsc()).solve(np.ones((2, 2)))
     array([[0.5 , 0.5 ],
            [0.25, 0.25]])
