@@ -93,6 +93,16 @@ def test_supernodal_factorization_leaves_cvxopts_options_as_they_were(cholmod, m
     assert cholmod.options == user_options
 
 
+def test_reading_cvxopts_factor_leaves_ctypes_pythonapi_as_it_was(cholmod):
+    import ctypes
+
+    shared = [getattr(ctypes.pythonapi, name) for name in ("PyCapsule_GetName", "PyCapsule_GetPointer")]
+    before = [(function.restype, function.argtypes) for function in shared]
+    f = linalg.factor(heat_matrix(10, 10), "supernodal")
+    assert f._sparse_forward is not None or not libraries.version_is_known("cvxopt", "this test")
+    assert [(function.restype, function.argtypes) for function in shared] == before
+
+
 def test_a_factor_from_another_cvxopt_version_is_not_read_and_that_is_said(cholmod, monkeypatch, caplog):
     monkeypatch.setitem(libraries.READ_INTERNALS_OF, "cvxopt", ("0.0.0",))
     monkeypatch.setattr(libraries, "_warned", set())

@@ -39,7 +39,7 @@ import ctypes
 import numpy as np
 from scipy.linalg.blas import dtrsv
 
-from .libraries import count_fast_path, version_is_known, warn_once
+from .libraries import count_fast_path, once, version_is_known, warn_once
 
 #: What a reader of a foreign factor may raise where the factor is not one it can read.
 _UNREADABLE = (ValueError, TypeError, IndexError, OverflowError, ctypes.ArgumentError)
@@ -72,12 +72,23 @@ class _CholmodFactor(ctypes.Structure):
     )
 
 
+@once
+def _capsule_api():
+    """``PyCapsule_GetName`` and ``PyCapsule_GetPointer`` with their own prototypes.
+
+    (Setting ``restype``/``argtypes`` on ``ctypes.pythonapi``'s shared function
+    objects would change them for everyone else in the process.)
+    """
+    get_name = ctypes.PYFUNCTYPE(ctypes.c_char_p, ctypes.py_object)(("PyCapsule_GetName", ctypes.pythonapi))
+    get_pointer = ctypes.PYFUNCTYPE(ctypes.c_void_p, ctypes.py_object, ctypes.c_char_p)(
+        ("PyCapsule_GetPointer", ctypes.pythonapi)
+    )
+    return get_name, get_pointer
+
+
 def _capsule_pointer(capsule):
     """The C pointer inside a PyCapsule."""
-    get_name = ctypes.pythonapi.PyCapsule_GetName
-    get_name.restype, get_name.argtypes = ctypes.c_char_p, [ctypes.py_object]
-    get_pointer = ctypes.pythonapi.PyCapsule_GetPointer
-    get_pointer.restype, get_pointer.argtypes = ctypes.c_void_p, [ctypes.py_object, ctypes.c_char_p]
+    get_name, get_pointer = _capsule_api()
     return get_pointer(capsule, get_name(capsule))
 
 
