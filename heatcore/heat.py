@@ -69,6 +69,10 @@ QUERY_MEMORY_MB = 256
 #: row never depends on the block it was computed in (measured cost: within
 #: the noise of one multi-column call; see docs/batch.md).
 EXACT_SOLVE_COLUMNS = 3
+#: Backends whose factor solves one column at a time faster in :meth:`HeatSolver.distances`: the
+#: supernodal factor solves a sparse right-hand side (a vertex's heat impulse) by a sparse forward
+#: solve, for one column only (measured on nefertiti: blocks 10% slower with 3 columns per call).
+ONE_COLUMN_BACKENDS = ("supernodal",)
 #: The unit field of a block is computed in tiles of columns whose element
 #: arrays take about this many bytes: elementwise passes over arrays that stay
 #: in the processor's cache (measured fastest on nefertiti and spot).
@@ -311,9 +315,11 @@ class HeatSolver:
         width = self.block_columns(max_memory_mb)
         for start in range(0, len(columns), width):
             chunk = columns[start : start + width]
-            phi = self._distances_from_pins([block[j] for j in chunk])
-            phi = np.append(phi, np.full((1, len(chunk)), np.inf), axis=0)  # row -1 (unreferenced): inf
-            rows[chunk] = phi[outputs].T
+            phi = self._distances_from_pins([block[j] for j in chunk])  # (n, k), columns contiguous
+            extended = np.empty((len(chunk), phi.shape[0] + 1))
+            extended[:, :-1] = phi.T
+            extended[:, -1] = np.inf  # index -1 (unreferenced) reads inf
+            rows[chunk] = extended[:, outputs]
         return rows
 
     def block_columns(self, max_memory_mb=None):
@@ -373,20 +379,25 @@ class HeatSolver:
         u = np.asfortranarray(self.heat(impulse))  # columns contiguous
         del impulse
         # b = -div X per column: the unit field vectorized over tiles of columns whose element arrays stay
-        # in cache; the sparse products column by column (scipy's one-column product is the faster one).
-        gradient, n_elements, dim = self.ops.gradient, self.ops.elements.shape[0], self.ops.dim
-        u_first = u[self.ops.elements[:, 0]].T  # (k, n_elements)
+        # in cache (one column per tile on large meshes); the sparse products column by column (scipy's
+        # one-column product is the faster one).
+        gradient, first, dim = self.ops.gradient, self.ops.elements[:, 0], self.ops.dim
         b = np.empty((n, k), order="F")
         width = self._unit_field_tile()
         for start in range(0, k, width):
             tile = range(start, min(start + width, k))
-            g = np.empty((dim, len(tile), n_elements))  # components first: contiguous passes over the tile
+            if len(tile) == 1:
+                b[:, start] = self._gradient_transposed @ self._scaled_unit_field(u[:, start], self.ops.volumes).ravel()
+                continue
+            g = np.empty((dim, len(tile), first.size))  # components first: contiguous passes over the tile
+            u_first = np.empty((len(tile), first.size))
             for i, j in enumerate(tile):
-                g[:, i, :] = (gradient @ u[:, j]).reshape(n_elements, dim).T
-            g = self._scale_to_unit(g, np.ascontiguousarray(u_first[start : tile.stop]), self.ops.volumes)
+                g[:, i, :] = (gradient @ u[:, j]).reshape(first.size, dim).T
+                u_first[i] = u[:, j][first]
+            g = self._scale_to_unit(g, u_first, self.ops.volumes)
             for i, j in enumerate(tile):
                 b[:, j] = self._gradient_transposed @ g[:, i, :].T.ravel()  # element-major, as G's rows
-        del u, u_first, g
+        del u
         b[self._ground] = 0.0
         phi = _solve_columns(self._poisson, b)  # as _solve_grounded, for every column
         del b
@@ -610,13 +621,16 @@ def _source_sequence(sources_block):
 
 
 def _solve_columns(factor, rhs):
-    """``factor.solve(rhs)``, for ``(n, k)`` in calls of at most ``EXACT_SOLVE_COLUMNS`` columns."""
-    if rhs.ndim == 1 or rhs.shape[1] <= EXACT_SOLVE_COLUMNS:
+    """``factor.solve(rhs)``; ``(n, k)`` in calls of ``EXACT_SOLVE_COLUMNS`` columns, or one by one (supernodal)."""
+    width = 1 if getattr(factor, "backend", None) in ONE_COLUMN_BACKENDS else EXACT_SOLVE_COLUMNS
+    if rhs.ndim == 1 or 1 < rhs.shape[1] <= width:
         return factor.solve(rhs)
     out = np.empty(rhs.shape, order="F")
-    for start in range(0, rhs.shape[1], EXACT_SOLVE_COLUMNS):
-        group = slice(start, start + EXACT_SOLVE_COLUMNS)
-        out[:, group] = factor.solve(rhs[:, group])
+    for start in range(0, rhs.shape[1], width):
+        if width == 1:
+            out[:, start] = factor.solve(rhs[:, start])  # one dimension: what takes the sparse path
+        else:
+            out[:, start : start + width] = factor.solve(rhs[:, start : start + width])
     return out
 
 

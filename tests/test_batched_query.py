@@ -72,6 +72,15 @@ def test_mesh_with_boundary(boundary):
     assert_rows_match(solver, [0, 20, 150, [3, 300], 356])  # corners, edge and interior sources
 
 
+@pytest.mark.parametrize("backend", hc.linalg.available_backends())
+def test_every_backend(backend):
+    V, F = grid(15, 15)
+    solver = hc.HeatSolver(hc.TriangleMesh(V, F), backend=backend)
+    D = assert_rows_match(solver, [0, 3, 50, 100, 7, [8, 9], 224])
+    if backend in ("qdldl", "cholmod"):  # columns solved as one column is: bit for bit distance()
+        assert np.array_equal(D[:-2], np.stack([solver.distance(s) for s in [0, 3, 50, 100, 7]]))
+
+
 def test_high_accuracy_runs_the_eikonal_pass_per_source(spot):
     solver = hc.HeatSolver(hc.TriangleMesh(*spot), accuracy="high")
     assert_rows_match(solver, [0, 17, [5, 900]])
