@@ -253,12 +253,14 @@ class HeatSolver:
     def distances(self, sources_block, *, max_memory_mb=None):
         """Geodesic distances from each of ``k`` sources: one row per source, computed together.
 
-        Row ``i`` is :meth:`distance` of ``sources_block[i]`` (the same to
-        rounding: within 1e-10 relative, ``inf`` at the same places), but the
-        sources go through one multi-column heat solve (an ``(n, k)``
-        right-hand side), one vectorized unit field and one multi-column
-        Poisson solve, instead of ``k`` queries: several times the sources per
-        second of a loop over :meth:`distance` (docs/batch.md). Each column
+        Row ``i`` is :meth:`distance` of ``sources_block[i]`` (bit for bit on
+        the ``qdldl`` and ``cholmod`` backends, else within 1e-10 relative;
+        ``inf`` at the same places), but the sources go through one
+        multi-column heat solve (an ``(n, k)`` right-hand side), one unit
+        field vectorized over the columns and one multi-column Poisson solve
+        instead of ``k`` queries (sources per second against a loop over
+        :meth:`distance`: docs/batch.md). A row never depends on the other
+        sources of its block. Each column
         keeps its own pins (a shift with one pin per component, the small
         dense systems with several; a source with more than
         ``MAX_PRECOMPUTED_PINS`` pinned vertices is solved on its own, as
