@@ -301,17 +301,17 @@ def main():
     names = {"pool": f"process pool ({os.cpu_count()} processes)", 1: "Dask LocalCluster, 1 worker", 2: "Dask LocalCluster, 2 workers"}
     lines += [
         *page_text(args.out),
-        f"## Measured on this machine ({os.cpu_count()} cores, {platform.processor() or platform.machine()}, "
-        f"Python {platform.python_version()}, numpy {np.__version__}, dask.distributed {distributed.__version__}, "
-        f"heatcore {heatcore.__version__})",
+        (f"## Measured on this machine ({os.cpu_count()} cores, {platform.processor() or platform.machine()}, "
+         f"Python {platform.python_version()}, numpy {np.__version__}, dask.distributed {distributed.__version__}, "
+         f"heatcore {heatcore.__version__})"),
         "",
         "Reproduce: `python scripts/bench_batch.py` (writes this page).",
         "",
-        f"The machine was shared with other jobs (1-minute load average {min(loads):.1f} to {max(loads):.1f} on its "
-        f"{os.cpu_count()} cores at the start and end of the sections): times vary by 10-30% from run to run.",
+        (f"The machine was shared with other jobs (1-minute load average {min(loads):.1f} to {max(loads):.1f} on "
+         f"its {os.cpu_count()} cores at the start and end of the sections): times vary by 10-30% from run to run."),
         "",
-        f"### Meshes per minute: {len(meshes)} shared triangle meshes ({', '.join(TRIANGLE_MESHES)}; "
-        f"{total_vertices:,} vertices in all), one source each",
+        (f"### Meshes per minute: {len(meshes)} shared triangle meshes ({', '.join(TRIANGLE_MESHES)}; "
+         f"{total_vertices:,} vertices in all), one source each"),
         "",
         "| executor | wall time | meshes per minute |",
         "|---|---:|---:|",
@@ -347,8 +347,8 @@ def main():
         f"| wall time | {allp['seconds']:.0f} s ({n / allp['seconds']:.0f} sources per second) |",
         f"| peak RSS, solver built + one query (same child process setup) | {base['maxrss_mb']:.0f} MB |",
         f"| peak RSS, whole all-pairs run | {allp['maxrss_mb']:.0f} MB |",
-        f"| difference (block buffer + temporaries) | {allp['maxrss_mb'] - base['maxrss_mb']:.0f} MB "
-        f"(bound {MAX_MEMORY_MB:g} MB) |",
+        (f"| difference (block buffer + temporaries) | {allp['maxrss_mb'] - base['maxrss_mb']:.0f} MB "
+         f"(bound {MAX_MEMORY_MB:g} MB) |"),
         "",
         "Peak RSS of the whole run is that of building the solver: the factorization's temporaries",
         "are larger than the 64 MB block buffer that later reuses the freed memory, and it does not grow",
