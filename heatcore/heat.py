@@ -62,6 +62,12 @@ MAX_PRECOMPUTED_PINS = 256
 #: Default bound (MB) on the working memory of :meth:`HeatSolver.distances`:
 #: blocks of sources are solved in chunks of columns that fit.
 QUERY_MEMORY_MB = 256
+#: At most this many sources per chunk of :meth:`HeatSolver.distances`: the
+#: time per source falls up to 8-32 columns and rises beyond, as the
+#: per-column arrays leave the processor's cache (measured with 128 sources:
+#: 1.4-1.6x a loop of queries at 8-32 columns on spot, nefertiti and a
+#: 20k-vertex grid; 1.0-1.3x at 128).
+MAX_BLOCK_COLUMNS = 16
 #: Multi-column solves of :meth:`HeatSolver.distances` go in calls of at most
 #: this many columns: CHOLMOD's simplicial solve (the cholmod backend) takes 4
 #: columns at a time through another kernel than 1 to 3, with another rounding,
@@ -327,12 +333,19 @@ class HeatSolver:
     def block_columns(self, max_memory_mb=None):
         """Sources of one vertex each that :meth:`distances` solves at once within ``max_memory_mb``.
 
-        The working memory of one column is about ``8 * (10 n + (dim + 5)
-        n_elements + n_input)`` bytes (right-hand sides, the heat fields of
-        both boundary conditions, the gradient field and its norms, the
-        Poisson solution, the output row). A source whose pinned vertices
-        share a component adds ``8 n`` per pinned vertex while its column is
-        pinned (its unit responses, as in :meth:`distance`).
+        At most ``MAX_BLOCK_COLUMNS`` (16): wider blocks are no faster per
+        source (their arrays leave the processor's cache).
+
+        The working memory is about ``8 * (8 n + n_input)`` bytes per column
+        (the heat impulse and the heat fields of both boundary conditions,
+        ``-div X``, the Poisson solution, the output row) plus one tile of the
+        unit field, ``8 * (dim + 5) * n_elements`` bytes per column of the tile
+        (its columns: as many as fit in ``UNIT_FIELD_TILE_BYTES``, at least
+        one). A source whose pinned vertices share a component adds ``8 n`` per
+        pinned vertex while its column is pinned (its unit responses, as in
+        :meth:`distance`). Measured peak (tracemalloc, the output rows
+        included) of a full block at the 256 MB default: 42% of it on spot,
+        54% on nefertiti, 88% on a 20k-vertex grid with boundary (Robin).
 
         Parameters
         ----------
@@ -348,15 +361,14 @@ class HeatSolver:
         --------
         >>> import heatcore as hc
         >>> solver = hc.HeatSolver(hc.TriangleMesh(*hc.io.load_demo_mesh()))
-        >>> solver.block_columns(256) > solver.block_columns(16) >= 1
-        True
+        >>> solver.block_columns(), solver.block_columns(max_memory_mb=8), solver.block_columns(max_memory_mb=1)
+        (16, 5, 1)
         """
         limit = (QUERY_MEMORY_MB if max_memory_mb is None else max_memory_mb) * 2**20
-        return max(1, int(limit // self._column_bytes()))
-
-    def _column_bytes(self):
         ops = self.ops
-        return 8 * (10 * ops.n_vertices + (ops.dim + 5) * ops.elements.shape[0] + len(self.domain.output_vertices))
+        tile = 8 * (ops.dim + 5) * ops.elements.shape[0] * self._unit_field_tile()
+        fit = int((limit - tile) // (8 * (8 * ops.n_vertices + len(self.domain.output_vertices))))
+        return max(1, min(fit, MAX_BLOCK_COLUMNS))
 
     def _unit_field_tile(self):
         """Columns per tile of the block unit field: its arrays (``8 (dim + 5)`` bytes per element and column) within ``UNIT_FIELD_TILE_BYTES``."""

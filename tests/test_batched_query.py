@@ -7,7 +7,7 @@ from shapes import grid
 
 import heatcore as hc
 from heatcore.errors import InvalidSourceError
-from heatcore.heat import MAX_PRECOMPUTED_PINS
+from heatcore.heat import MAX_BLOCK_COLUMNS, MAX_PRECOMPUTED_PINS
 
 RTOL = 1e-10
 
@@ -98,11 +98,12 @@ def test_other_domains():
 
 def test_memory_bound_splits_the_block_into_chunks(spot_solver):
     assert spot_solver.block_columns(1e-9) == 1
-    per_column_mb = 1 / spot_solver.block_columns(1.0)
+    assert spot_solver.block_columns() == spot_solver.block_columns(1e6) == MAX_BLOCK_COLUMNS
     block = list(range(0, 2900, 100))
-    whole = spot_solver.distances(block)
-    chunked = spot_solver.distances(block, max_memory_mb=2.5 * per_column_mb)  # chunks of 2 columns
-    assert np.array_equal(whole, chunked)
+    assert 1 < spot_solver.block_columns(8) < len(block)
+    whole = spot_solver.distances(block, max_memory_mb=1e6)
+    for bound in (8, 1e-9):  # chunks of a few columns, of one column
+        assert np.array_equal(whole, spot_solver.distances(block, max_memory_mb=bound))
     assert_rows_match(spot_solver, block, whole)
 
 
