@@ -214,7 +214,7 @@ def blocks_lines(results, repeat):
     lines += [
         "",
         f"Written results before and after: {same} (largest difference {largest:.1e} of the largest distance).",
-        f"Blocks of {columns} columns: the default 256 MB working-memory bound of `distances`.",
+        f"Blocks of {columns} columns (`block_columns()`: at most 16, within the 256 MB working-memory bound).",
         "",
         "Where the time goes: the heat step's factor is `qdldl` below 100k unknowns (`auto` picks it for its",
         "factorization speed), and qdldl solves one column at a time; a block saves the Python work and set-up",
@@ -354,8 +354,9 @@ def main():
         "are larger than the 64 MB block buffer that later reuses the freed memory, and it does not grow",
         "with the 3 GB of rows written. The bound covers the distance rows a task holds; the solver (mesh,",
         "operators, factorizations) and the working memory of a block of sources (`HeatSolver.distances`:",
-        "at most 256 MB, and at most that many rows again) come on top and do not depend on the number of",
-        "sources. With a local pool or several Dask worker threads, each running task has its own bound.",
+        "at most 256 MB, and the rows of one block of at most 16 sources) come on top and do not depend on",
+        "the number of sources. With a local pool or several Dask worker threads, each running task has its",
+        "own bound.",
         "",
         *blocks_lines(blocks, args.repeat),
     ]
