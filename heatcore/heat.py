@@ -8,7 +8,10 @@
 4. vertices that no source reaches get ``inf``.
 
 All factorizations are built in the constructor; :meth:`HeatSolver.distance`
-only runs triangular solves and sparse products.
+only runs triangular solves and sparse products, and :meth:`HeatSolver.distances`
+runs them for many sources at once. The steps' own numerics live beside this
+module, in :mod:`heatcore.steps`: the time step's underflow guard, the unit field (step 2), the
+pinned Poisson solve (step 3) and the blocks of many sources.
 
 Examples
 --------
@@ -23,7 +26,7 @@ Examples
 import logging
 import time
 import weakref
-from collections.abc import Iterable, Mapping
+from collections.abc import Mapping
 from concurrent.futures import Future
 
 import numpy as np
@@ -31,16 +34,21 @@ import scipy.sparse as sp
 
 from .domains.parts import first_of_each, hop_diameters, vertex_components, vertex_graph
 from .domains.sources import SourcePins, source_keywords
-from .errors import InvalidOptionError, InvalidSourceError, SolverError
-from .options import check
+from .errors import InvalidOptionError, SolverError
 from .linalg import (
     Ordering,
     choose_backend,
     factor,
     fill_reducing_ordering,
     restrict_ordering,
+    solve_columns,
     start_nested_dissection,
 )
+from .options import check
+from .steps.blocks import block_columns, source_sequence
+from .steps.poisson import MAX_PRECOMPUTED_PINS, PinnedPoisson, grounded
+from .steps.time_step import underflow_safe_m
+from .steps.unit_field import minus_divergence, minus_divergence_columns, unit_field
 
 log = logging.getLogger("heatcore")
 
@@ -49,41 +57,6 @@ _DOMAIN_FACTORS = weakref.WeakKeyDictionary()
 
 #: The solver's options, declared in :mod:`heatcore.options`.
 OPTION_NAMES = ("m", "boundary", "accuracy", "backend")
-
-#: A heat gradient smaller than this times ``u / h`` is rounding noise (an exact
-#: saddle of the heat) and gets no direction in the unit field.
-SADDLE_GRADIENT = 1e-9
-
-#: Up to this many pinned vertices, the pinned Poisson solve reuses the
-#: prefactored Laplacian (one multi-right-hand-side solve); beyond, it factors
-#: the pinned system for that query.
-MAX_PRECOMPUTED_PINS = 256
-
-#: Default bound (MB) on the working memory of :meth:`HeatSolver.distances`:
-#: blocks of sources are solved in chunks of columns that fit.
-QUERY_MEMORY_MB = 256
-#: At most this many sources per chunk of :meth:`HeatSolver.distances`: the
-#: time per source falls up to 8-32 columns and rises beyond, as the
-#: per-column arrays leave the processor's cache (measured with 128 sources:
-#: 1.4-1.6x a loop of queries at 8-32 columns on spot, nefertiti and a
-#: 20k-vertex grid; 1.0-1.3x at 128).
-MAX_BLOCK_COLUMNS = 16
-#: Multi-column solves of :meth:`HeatSolver.distances` go in calls of at most
-#: this many columns: CHOLMOD's simplicial solve (the cholmod backend) takes 4
-#: columns at a time through another kernel than 1 to 3, with another rounding,
-#: so with at most 3 every column is bit for bit its one-column solve and a
-#: row never depends on the block it was computed in (measured cost: within
-#: the noise of one multi-column call; see docs/batch.md).
-EXACT_SOLVE_COLUMNS = 3
-#: Backends whose factor solves one column at a time faster in :meth:`HeatSolver.distances`: the
-#: supernodal factor solves a sparse right-hand side (a vertex's heat impulse) by a sparse forward
-#: solve, for one column only (measured on nefertiti: blocks 10% slower with 3 columns per call).
-ONE_COLUMN_BACKENDS = ("supernodal",)
-#: The unit field of a block is computed in tiles of columns whose element
-#: arrays take about this many bytes: elementwise passes over arrays that stay
-#: in the processor's cache (measured fastest on nefertiti and spot).
-UNIT_FIELD_TILE_BYTES = 4 * 2**20
-
 
 class HeatSolver:
     """Prefactored heat-method distance on one domain; cheap queries.
@@ -119,7 +92,7 @@ class HeatSolver:
         The time factor of each component: ``m``, raised where the component
         is so many edge hops across that heat with time factor ``m`` would
         underflow double precision far from the sources (see
-        :func:`underflow_safe_m`).
+        :func:`~heatcore.steps.time_step.underflow_safe_m`).
     m_effective : float
         The largest of ``part_m``.
     hop_diameter : int
@@ -191,10 +164,12 @@ class HeatSolver:
         start = time.perf_counter()
         # The Poisson factorization is kept for every query, so it is made for fast solves.
         if ("poisson", backend) not in self._domain_cache:
-            grounded = _grounded(self._laplacian, ground)
-            poisson = factor(grounded, poisson_backend, ordering=self._laplacian_ordering(poisson_backend))
-            self._domain_cache["poisson", backend] = poisson
-        self._poisson = self._domain_cache["poisson", backend]
+            K = grounded(self._laplacian, ground)
+            self._domain_cache["poisson", backend] = factor(K, poisson_backend, ordering=self._laplacian_ordering(poisson_backend))
+        self.poisson = PinnedPoisson(
+            self._laplacian, self._domain_cache["poisson", backend], ground, self.component, self.n_components,
+            self._factor_free,
+        )
         self.timings["poisson factorization"] = time.perf_counter() - start
         for key, ordering in self._domain_cache.items():
             if isinstance(ordering, Ordering):
@@ -242,9 +217,9 @@ class HeatSolver:
         :class:`~heatcore.domains.operators.Operators`), as the domain builds them.
         """
         u = self.heat(pins.heat)
-        b = self._gradient_transposed @ self._scaled_unit_field(u, self.ops.volumes).ravel()  # = -div X
+        b = minus_divergence(self.ops, self._gradient_transposed, u, self._element_h)
         reached = None if self.n_components == 1 else np.isin(self.component, self.component[pins.vertices])
-        phi = self._pinned_poisson(b, pins, reached)
+        phi = self.poisson.solve(b, pins, reached)
         phi[pins.vertices] = pins.values
         np.maximum(phi, 0.0, out=phi)
         if reached is not None:
@@ -312,7 +287,7 @@ class HeatSolver:
         (0, 2930)
         """
         block = []
-        for source in _source_sequence(sources_block):  # a loop, not a comprehension: warnings point at the caller
+        for source in source_sequence(sources_block):  # a loop, not a comprehension: warnings point at the caller
             block.append(self._block_source_pins(source))
         outputs = np.asarray(self.domain.output_vertices)
         rows = np.empty((len(block), outputs.size))
@@ -331,49 +306,15 @@ class HeatSolver:
         return rows
 
     def block_columns(self, max_memory_mb=None):
-        """Sources of one vertex each that :meth:`distances` solves at once within ``max_memory_mb``.
-
-        At most ``MAX_BLOCK_COLUMNS`` (16): wider blocks are no faster per
-        source (their arrays leave the processor's cache).
-
-        The working memory is about ``8 * (8 n + n_input)`` bytes per column
-        (the heat impulse and the heat fields of both boundary conditions,
-        ``-div X``, the Poisson solution, the output row) plus one tile of the
-        unit field, ``8 * (dim + 5) * n_elements`` bytes per column of the tile
-        (its columns: as many as fit in ``UNIT_FIELD_TILE_BYTES``, at least
-        one). A source whose pinned vertices share a component adds ``8 n`` per
-        pinned vertex while its column is pinned (its unit responses, as in
-        :meth:`distance`). Measured peak (tracemalloc, the output rows
-        included) of a full block at the 256 MB default: 42% of it on spot,
-        54% on nefertiti, 88% on a 20k-vertex grid with boundary (Robin).
-
-        Parameters
-        ----------
-        max_memory_mb : float, optional
-            Default ``QUERY_MEMORY_MB``.
-
-        Returns
-        -------
-        int
-            At least 1.
+        """Sources of one vertex each that :meth:`distances` solves at once (:func:`heatcore.steps.blocks.block_columns`).
 
         Examples
         --------
         >>> import heatcore as hc
-        >>> solver = hc.HeatSolver(hc.TriangleMesh(*hc.io.load_demo_mesh()))
-        >>> solver.block_columns(), solver.block_columns(max_memory_mb=8), solver.block_columns(max_memory_mb=1)
-        (16, 5, 1)
+        >>> hc.HeatSolver(hc.TriangleMesh(*hc.io.load_demo_mesh())).block_columns(max_memory_mb=8)
+        5
         """
-        limit = (QUERY_MEMORY_MB if max_memory_mb is None else max_memory_mb) * 2**20
-        ops = self.ops
-        tile = 8 * (ops.dim + 5) * ops.elements.shape[0] * self._unit_field_tile()
-        fit = int((limit - tile) // (8 * (8 * ops.n_vertices + len(self.domain.output_vertices))))
-        return max(1, min(fit, MAX_BLOCK_COLUMNS))
-
-    def _unit_field_tile(self):
-        """Columns per tile of the block unit field: its arrays (``8 (dim + 5)`` bytes per element and column) within ``UNIT_FIELD_TILE_BYTES``."""
-        ops = self.ops
-        return max(1, int(UNIT_FIELD_TILE_BYTES // (8 * (ops.dim + 5) * ops.elements.shape[0])))
+        return block_columns(self.ops, len(self.domain.output_vertices), max_memory_mb)
 
     def _block_source_pins(self, source):
         """:class:`SourcePins` of one source of a block (see :meth:`distances`)."""
@@ -392,32 +333,14 @@ class HeatSolver:
             impulse[:, j] = pins.heat
         u = np.asfortranarray(self.heat(impulse))  # columns contiguous
         del impulse
-        # b = -div X per column: the unit field vectorized over tiles of columns whose element arrays stay
-        # in cache (one column per tile on large meshes); the sparse products column by column (scipy's
-        # one-column product is the faster one).
-        gradient, first, dim = self.ops.gradient, self.ops.elements[:, 0], self.ops.dim
-        b = np.empty((n, k), order="F")
-        width = self._unit_field_tile()
-        for start in range(0, k, width):
-            tile = range(start, min(start + width, k))
-            if len(tile) == 1:
-                b[:, start] = self._gradient_transposed @ self._scaled_unit_field(u[:, start], self.ops.volumes).ravel()
-                continue
-            g = np.empty((dim, len(tile), first.size))  # components first: contiguous passes over the tile
-            u_first = np.empty((len(tile), first.size))
-            for i, j in enumerate(tile):
-                g[:, i, :] = (gradient @ u[:, j]).reshape(first.size, dim).T
-                u_first[i] = u[:, j][first]
-            g = self._scale_to_unit(g, u_first, self.ops.volumes)
-            for i, j in enumerate(tile):
-                b[:, j] = self._gradient_transposed @ g[:, i, :].T.ravel()  # element-major, as G's rows
+        b = minus_divergence_columns(self.ops, self._gradient_transposed, u, self._element_h)
         del u
         b[self._ground] = 0.0
-        phi = _solve_columns(self._poisson, b)  # as _solve_grounded, for every column
+        phi = solve_columns(self.poisson.factor, b)  # as PinnedPoisson.solve_grounded, for every column
         del b
         for j, pins in enumerate(block):
-            column = phi[:, j]  # a view: pinned in place, with the small dense systems of _pinned_poisson
-            self._apply_pins(column, pins.vertices, pins.values, self._unit_responses)
+            column = phi[:, j]  # a view: pinned in place, as PinnedPoisson.solve does
+            self.poisson.apply_pins(column, pins.vertices, pins.values)
             column[pins.vertices] = pins.values
         np.maximum(phi, 0.0, out=phi)
         if self.n_components > 1:
@@ -436,12 +359,12 @@ class HeatSolver:
 
     def heat(self, impulse):
         """Heat after one backward Euler step of length ``t`` from ``impulse`` ((n,), or (n, k): k columns at once)."""
-        u_neumann = _solve_columns(self._heat_neumann, impulse)
+        u_neumann = solve_columns(self._heat_neumann, impulse)
         if self.boundary == "neumann":
             return u_neumann
         u = np.zeros_like(impulse)
         if self._heat_dirichlet is not None:
-            u[self._interior] = _solve_columns(self._heat_dirichlet, impulse[self._interior])
+            u[self._interior] = solve_columns(self._heat_dirichlet, impulse[self._interior])
         # A component whose heat all sits on the boundary gets none under
         # Dirichlet conditions: use the Neumann solution there.
         cold = _component_sums(self.component, np.abs(u), self.n_components) == 0
@@ -452,45 +375,8 @@ class HeatSolver:
         return u
 
     def unit_field(self, u):
-        """``-grad u / |grad u|`` per element, 0 where the gradient vanishes or is not finite."""
-        return self._scaled_unit_field(u, 1.0)
-
-    def _scaled_unit_field(self, u, weights):
-        """``weights`` times :meth:`unit_field` (one pass fewer over the elements than multiplying after)."""
-        g = (self.ops.gradient @ u).reshape(-1, self.ops.dim)
-        return self._scale_to_unit(g.T, u[self.ops.elements[:, 0]], weights).T
-
-    def _scale_to_unit(self, g, u_first, weights):
-        """Turn heat gradients into ``-weights * g / |g|`` in place (0 where they vanish or are noise).
-
-        ``g`` holds the gradient's components axis first: ``(dim, n_elements)``,
-        or ``(dim, k, n_elements)`` for ``k`` heat fields at once (each gets
-        exactly the arithmetic of one); ``u_first`` is the heat at each
-        element's first vertex, ``(n_elements,)`` or ``(k, n_elements)``.
-        Returns ``g`` (a new array where non-finite gradients were zeroed).
-        """
-        norm2 = _squared_row_norms(g)
-        if not np.isfinite(norm2.sum()):  # rare: a non-finite gradient gets no direction
-            g = np.where(np.isfinite(g), g, 0.0)
-            norm2 = _squared_row_norms(g)
-        norm = np.sqrt(norm2)
-        # Far from the sources u (and so g) can be 1e-200, whose square
-        # underflows: recompute those norms with hypot, which does not.
-        tiny = np.nonzero(norm2 < 1e-280)
-        if tiny[0].size:
-            redo = np.hypot(g[0][tiny], g[1][tiny])
-            for axis in range(2, len(g)):
-                redo = np.hypot(redo, g[axis][tiny])
-            norm[tiny] = np.where(redo > 0, redo, np.inf)  # a zero gradient gets X = 0
-        # A gradient below the rounding of u itself (an exact saddle of the heat, as at the far point
-        # of a symmetric part: 2e-15 of u per edge length there, 5e-3 and more elsewhere) has no
-        # direction: X = 0 there, not a direction made of rounding noise that any change of
-        # elimination order (another part beside it) would turn elsewhere.
-        norm[norm * self._element_h < SADDLE_GRADIENT * u_first] = np.inf
-        scale = np.negative(weights) / norm
-        for component in g:  # axis by axis: 3x faster than broadcasting over rows of 2 or 3
-            component *= scale
-        return g
+        """``-grad u / |grad u|`` per element, 0 where the gradient vanishes or is not finite (see :mod:`heatcore.unit_field`)."""
+        return unit_field(self.ops, u, 1.0, self._element_h)
 
     def _factor_heat(self, backend):
         """Factor ``M + t L`` for the boundary condition (Neumann, interior-only Dirichlet, or both)."""
@@ -529,73 +415,11 @@ class HeatSolver:
             self._domain_cache["nested", backend] = nested
         return nested or self._ordering(backend)
 
-    def _solve_grounded(self, rhs):
-        """Solve ``L x = rhs`` per component with ``x = 0`` at each component's ground vertex."""
-        rhs[self._ground] = 0.0  # callers pass arrays of their own
-        return self._poisson.solve(rhs)
-
-    def _pinned_poisson(self, b, pins, reached):
-        """Minimize the Dirichlet-energy misfit with ``phi[pins.vertices] = pins.values``."""
-        P, d = pins.vertices, pins.values
-        if P.size > MAX_PRECOMPUTED_PINS:
-            everywhere = np.ones(self.ops.n_vertices, dtype=bool)
-            return self._factor_pinned(b, P, d, everywhere if reached is None else reached)
-        return self._apply_pins(self._solve_grounded(b), P, d, self._unit_responses)
-
-    def _unit_responses(self, vertices):
-        """Grounded solutions ``L^-1 e_v`` for the operator vertices ``v``, as columns."""
-        E = np.zeros((self.ops.n_vertices, vertices.size))
-        E[vertices, np.arange(vertices.size)] = 1.0
-        return self._solve_grounded(E)  # column j is zero outside the component of its vertex
-
-    def _several_pins(self, P):
-        """The pins of ``P`` that share their component with another pin (mask), and each pin's component."""
-        comp_of_pin = self.component[P]
-        _, local, count = np.unique(comp_of_pin, return_inverse=True, return_counts=True)
-        return count[local] > 1, comp_of_pin
-
-    def _apply_pins(self, psi, P, d, responses):
-        """Make the grounded solution ``psi`` take the values ``d`` at the pins ``P`` (in place).
-
-        ``responses(vertices)`` gives :meth:`_unit_responses` of the pins that
-        share a component with another pin.
-        """
-        # One pin in a component: a shift. Several: point loads mu at its pins and a constant,
-        # one small dense system per component, so that no rounding crosses parts.
-        multiple, comp_of_pin = self._several_pins(P)
-        single = ~multiple
-        shift = np.zeros(self.n_components)
-        shift[comp_of_pin[single]] = d[single] - psi[P[single]]
-        several = np.flatnonzero(multiple)
-        if several.size:
-            Z = responses(P[several])
-            mu = np.zeros(several.size)
-            for c in np.unique(comp_of_pin[several]):
-                cols = np.flatnonzero(comp_of_pin[several] == c)
-                k = cols.size
-                A = np.zeros((k + 1, k + 1))
-                A[:k, :k] = Z[P[several[cols]]][:, cols]
-                A[:k, k] = A[k, :k] = 1.0
-                sol = np.linalg.lstsq(A, np.r_[d[several[cols]] - psi[P[several[cols]]], 0.0], rcond=None)[0]
-                mu[cols], shift[c] = sol[:k], sol[k]
-            psi += Z @ mu
-        psi += shift[self.component] if self.n_components > 1 else shift[0]
-        return psi
-
-    def _factor_pinned(self, b, P, d, reached):
-        """Pinned Poisson solve with a factorization of its own (many pinned vertices)."""
-        phi = np.zeros(self.ops.n_vertices)
-        phi[P] = d
-        free = reached.copy()
-        free[P] = False
-        idx = np.flatnonzero(free)
-        if idx.size:
-            L = self._laplacian
-            rhs = b[idx] - L[idx][:, P] @ d
-            backend = self._resolve(self._backend, "factor")
-            ordering = restrict_ordering(self._laplacian_ordering(backend), idx)
-            phi[idx] = factor(L[idx][:, idx], backend, ordering=ordering).solve(rhs)
-        return phi
+    def _factor_free(self, free):
+        """Factor of the Laplacian on the ``free`` vertices (a pinned system of many pins), ordered as the Laplacian."""
+        backend = self._resolve(self._backend, "factor")
+        ordering = restrict_ordering(self._laplacian_ordering(backend), free)
+        return factor(self._laplacian[free][:, free], backend, ordering=ordering)
 
 
 def domain_factors(domain):
@@ -615,39 +439,6 @@ def domain_factors(domain):
     return _DOMAIN_FACTORS.setdefault(domain, {})
 
 
-def _squared_row_norms(g):
-    """``(g**2).sum(axis=0)`` for a few components, component by component (twice as fast as over rows)."""
-    norm2 = g[0] * g[0]
-    for component in g[1:]:
-        norm2 += component * component
-    return norm2
-
-
-def _source_sequence(sources_block):
-    """The sources of a block as a list; a typed error for anything that is not a sequence of sources."""
-    single = isinstance(sources_block, (str, bytes, Mapping, SourcePins)) or not isinstance(sources_block, Iterable)
-    if single or isinstance(sources_block, np.ndarray) and sources_block.ndim == 0:
-        raise InvalidSourceError(
-            f"sources_block must be a sequence of sources (one per row), got {type(sources_block).__name__}; "
-            "for one source use distance()"
-        )
-    return list(sources_block)
-
-
-def _solve_columns(factor, rhs):
-    """``factor.solve(rhs)``; ``(n, k)`` in calls of ``EXACT_SOLVE_COLUMNS`` columns, or one by one (supernodal)."""
-    width = 1 if getattr(factor, "backend", None) in ONE_COLUMN_BACKENDS else EXACT_SOLVE_COLUMNS
-    if rhs.ndim == 1 or 1 < rhs.shape[1] <= width:
-        return factor.solve(rhs)
-    out = np.empty(rhs.shape, order="F")
-    for start in range(0, rhs.shape[1], width):
-        if width == 1:
-            out[:, start] = factor.solve(rhs[:, start])  # one dimension: what takes the sparse path
-        else:
-            out[:, start : start + width] = factor.solve(rhs[:, start : start + width])
-    return out
-
-
 def _component_sums(component, values, n_components):
     """Sums of ``values`` ((n,) or (n, k)) over each component: (n_components,) or (n_components, k)."""
     if values.ndim == 1:
@@ -655,101 +446,3 @@ def _component_sums(component, values, n_components):
     k = values.shape[1]
     index = (component[:, None] * k + np.arange(k)).ravel()
     return np.bincount(index, weights=values.ravel(), minlength=n_components * k).reshape(n_components, k)
-
-
-def _grounded(L, ground):
-    """``L`` with the rows and columns of the ground vertices replaced by the identity.
-
-    Solving with it gives ``x = 0`` at the ground vertices and ``L x = b``
-    elsewhere; it is positive definite when each component has one ground.
-    The sparsity pattern of ``L`` is kept (explicit zeros), so that it shares
-    ``L``'s fill-reducing ordering and converted pattern.
-    """
-    K = sp.csr_matrix(L, copy=True)
-    K.sum_duplicates()
-    is_ground = np.zeros(K.shape[0], dtype=bool)
-    is_ground[ground] = True
-    rows = np.repeat(np.arange(K.shape[0]), np.diff(K.indptr))
-    K.data[is_ground[rows] | is_ground[K.indices]] = 0.0
-    on_ground_diagonal = (rows == K.indices) & is_ground[rows]
-    if on_ground_diagonal.sum() == ground.size:
-        K.data[on_ground_diagonal] = 1.0
-        return K
-    return (K + sp.diags(is_ground.astype(float))).tocsr()  # a ground without a diagonal entry
-
-
-#: Decimal orders of magnitude the heat may fall over the mesh: double
-#: precision underflows near 1e-308, and the heat must stay well above it.
-HEAT_DECADES_BUDGET = 250.0
-#: Decimal orders of magnitude the heat falls per edge hop, relative to the 1D
-#: backward-Euler rate; measured on intrinsic Delaunay meshes (0.55 decades per
-#: hop at m = 1, where the 1D rate is 0.42).
-HOP_DECAY_FACTOR = 1.3
-
-
-def heat_decay_per_hop(m):
-    """Decimal orders of magnitude one backward-Euler heat step of ``t = m h^2`` falls per hop (1D).
-
-    Parameters
-    ----------
-    m : float or float array
-        Time factor (unitless).
-
-    Returns
-    -------
-    float or float array
-        ``-log10`` of the heat's ratio between neighbouring vertices of a 1D grid.
-
-    Examples
-    --------
-    >>> round(float(heat_decay_per_hop(1.0)), 3)
-    0.418
-    >>> bool(heat_decay_per_hop(10.0) < heat_decay_per_hop(1.0))  # a longer step spreads the heat further
-    True
-    """
-    ratio = 2 * m / ((1 + 2 * m) + np.sqrt(1 + 4 * m))  # root of m r^2 - (1 + 2m) r + m = 0
-    return -np.log10(ratio)
-
-
-def underflow_safe_m(hop_diameter, budget=HEAT_DECADES_BUDGET):
-    """Smallest time factor keeping the heat representable across ``hop_diameter`` hops.
-
-    With ``t = m h^2`` the heat falls by a constant factor per edge hop (about
-    0.38 in 1D at m = 1), so on a mesh hundreds of hops across it underflows
-    double precision and its gradient is noise. This returns the smallest
-    ``m`` whose decay over the diameter stays within ``budget`` decades.
-
-    Parameters
-    ----------
-    hop_diameter : int or array of int
-        Edge hops across (one value per component).
-    budget : float
-        Decimal orders of magnitude the heat may fall.
-
-    Returns
-    -------
-    float, or a float array of the shape of ``hop_diameter``
-
-    Examples
-    --------
-    >>> bool(underflow_safe_m(300) < 1.0)
-    True
-    >>> round(float(underflow_safe_m(700)), 2)
-    2.42
-    >>> underflow_safe_m(np.array([300, 700])).round(2).tolist()
-    [0.38, 2.42]
-    """
-    hops = np.asarray(hop_diameter, dtype=float)
-
-    def too_cold(m):
-        return hops * HOP_DECAY_FACTOR * heat_decay_per_hop(m) > budget
-
-    lo, hi = np.full(hops.shape, 1e-9), np.ones(hops.shape)
-    while too_cold(hi).any():
-        grow = too_cold(hi)
-        lo, hi = np.where(grow, hi, lo), np.where(grow, 2.0 * hi, hi)
-    for _ in range(60):  # bisection on log m; the decay falls as m grows
-        mid = np.sqrt(lo * hi)
-        cold = too_cold(mid)
-        lo, hi = np.where(cold, mid, lo), np.where(cold, hi, mid)
-    return float(hi) if hi.ndim == 0 else hi

@@ -7,7 +7,8 @@ from shapes import grid
 
 import heatcore as hc
 from heatcore.errors import InvalidSourceError
-from heatcore.heat import MAX_BLOCK_COLUMNS, MAX_PRECOMPUTED_PINS
+from heatcore.heat import MAX_PRECOMPUTED_PINS
+from heatcore.steps.blocks import MAX_BLOCK_COLUMNS
 
 RTOL = 1e-10
 

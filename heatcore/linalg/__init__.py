@@ -54,6 +54,7 @@ from .factor import (
     choose_backend,
     factor,
 )
+from .columns import solve_columns
 from .memory import release_free_memory
 from .ordering import (
     NESTED_DISSECTION_MIN_SIZE,
@@ -75,5 +76,6 @@ __all__ = [
     "fill_reducing_ordering",
     "release_free_memory",
     "restrict_ordering",
+    "solve_columns",
     "start_nested_dissection",
 ]

@@ -1,0 +1,150 @@
+"""Step 3 of the heat method: the Poisson equation ``L phi = -div X`` with every source pinned.
+
+The Laplacian is singular on each connected component (constants), so it is
+factored once *grounded*: one vertex per component held at 0
+(:func:`grounded`). A query then solves the grounded system and makes the
+solution take the known distances at the pinned vertices: a shift where a
+component has one pin, and where it has several, point loads at its pins and a
+constant (one small dense system per component, so that no rounding crosses
+parts). A source of more than ``MAX_PRECOMPUTED_PINS`` pinned vertices gets
+a factorization of the pinned system of its own.
+
+Examples
+--------
+>>> import numpy as np, scipy.sparse as sp
+>>> L = sp.csr_matrix(np.array([[1.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]]))  # a path
+>>> from heatcore.linalg import factor
+>>> pinned = PinnedPoisson(L, factor(grounded(L, np.array([0]))), np.array([0]), np.zeros(3, int), 1, None)
+>>> pinned.apply_pins(pinned.solve_grounded(np.zeros(3)), np.array([2]), np.array([5.0])).tolist()
+[5.0, 5.0, 5.0]
+"""
+
+import numpy as np
+import scipy.sparse as sp
+
+#: Up to this many pinned vertices, the pinned Poisson solve reuses the
+#: prefactored Laplacian (one multi-right-hand-side solve); beyond, it factors
+#: the pinned system for that query.
+MAX_PRECOMPUTED_PINS = 256
+
+
+def grounded(L, ground):
+    """``L`` with the rows and columns of the ground vertices replaced by the identity.
+
+    Solving with it gives ``x = 0`` at the ground vertices and ``L x = b``
+    elsewhere; it is positive definite when each component has one ground.
+    The sparsity pattern of ``L`` is kept (explicit zeros), so that it shares
+    ``L``'s fill-reducing ordering and converted pattern.
+
+    Examples
+    --------
+    >>> import scipy.sparse as sp
+    >>> L = sp.csr_matrix(np.array([[1.0, -1.0], [-1.0, 1.0]]))
+    >>> grounded(L, np.array([0])).toarray().tolist()
+    [[1.0, 0.0], [0.0, 1.0]]
+    """
+    K = sp.csr_matrix(L, copy=True)
+    K.sum_duplicates()
+    is_ground = np.zeros(K.shape[0], dtype=bool)
+    is_ground[ground] = True
+    rows = np.repeat(np.arange(K.shape[0]), np.diff(K.indptr))
+    K.data[is_ground[rows] | is_ground[K.indices]] = 0.0
+    on_ground_diagonal = (rows == K.indices) & is_ground[rows]
+    if on_ground_diagonal.sum() == ground.size:
+        K.data[on_ground_diagonal] = 1.0
+        return K
+    return (K + sp.diags(is_ground.astype(float))).tocsr()  # a ground without a diagonal entry
+
+
+class PinnedPoisson:
+    """The Poisson step of one solver: its grounded factor, and pins applied per query.
+
+    Parameters
+    ----------
+    laplacian : (n, n) sparse matrix
+    factor : Factor
+        Of :func:`grounded` ``(laplacian, ground)``.
+    ground : (n_components,) int array
+        One vertex per component, held at 0 by ``factor``.
+    component : (n,) int array
+        Component of each vertex.
+    n_components : int
+    factor_free : callable or None
+        ``factor_free(free)`` factors ``laplacian[free][:, free]`` (sources of
+        more than ``MAX_PRECOMPUTED_PINS`` pinned vertices); None: never needed.
+
+    Examples
+    --------
+    >>> import heatcore as hc
+    >>> solver = hc.HeatSolver(hc.TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0))
+    >>> isinstance(solver.poisson, PinnedPoisson)
+    True
+    """
+
+    def __init__(self, laplacian, factor, ground, component, n_components, factor_free):
+        self.laplacian = laplacian
+        self.factor = factor
+        self.ground = ground
+        self.component = component
+        self.n_components = n_components
+        self.factor_free = factor_free
+
+    def solve(self, b, pins, reached):
+        """``phi`` minimizing the Dirichlet-energy misfit to ``b`` with ``phi[pins.vertices] = pins.values``.
+
+        ``reached``: the vertices of the components the pins are in (None: all).
+        """
+        P, d = pins.vertices, pins.values
+        if P.size > MAX_PRECOMPUTED_PINS:
+            everywhere = np.ones(self.laplacian.shape[0], dtype=bool)
+            return self._factor_pinned(b, P, d, everywhere if reached is None else reached)
+        return self.apply_pins(self.solve_grounded(b), P, d)
+
+    def solve_grounded(self, rhs):
+        """Solve ``L x = rhs`` per component with ``x = 0`` at each component's ground vertex (``rhs`` is overwritten)."""
+        rhs[self.ground] = 0.0  # callers pass arrays of their own
+        return self.factor.solve(rhs)
+
+    def unit_responses(self, vertices):
+        """Grounded solutions ``L^-1 e_v`` for the vertices ``v``, as columns."""
+        E = np.zeros((self.laplacian.shape[0], vertices.size))
+        E[vertices, np.arange(vertices.size)] = 1.0
+        return self.solve_grounded(E)  # column j is zero outside the component of its vertex
+
+    def apply_pins(self, psi, P, d):
+        """Make the grounded solution ``psi`` take the values ``d`` at the pins ``P`` (in place); returns ``psi``."""
+        # One pin in a component: a shift. Several: point loads mu at its pins and a constant,
+        # one small dense system per component, so that no rounding crosses parts.
+        comp_of_pin = self.component[P]
+        _, local, count = np.unique(comp_of_pin, return_inverse=True, return_counts=True)
+        single = count[local] == 1
+        shift = np.zeros(self.n_components)
+        shift[comp_of_pin[single]] = d[single] - psi[P[single]]
+        several = np.flatnonzero(~single)
+        if several.size:
+            Z = self.unit_responses(P[several])
+            mu = np.zeros(several.size)
+            for c in np.unique(comp_of_pin[several]):
+                cols = np.flatnonzero(comp_of_pin[several] == c)
+                k = cols.size
+                A = np.zeros((k + 1, k + 1))
+                A[:k, :k] = Z[P[several[cols]]][:, cols]
+                A[:k, k] = A[k, :k] = 1.0
+                sol = np.linalg.lstsq(A, np.r_[d[several[cols]] - psi[P[several[cols]]], 0.0], rcond=None)[0]
+                mu[cols], shift[c] = sol[:k], sol[k]
+            psi += Z @ mu
+        psi += shift[self.component] if self.n_components > 1 else shift[0]
+        return psi
+
+    def _factor_pinned(self, b, P, d, reached):
+        """Pinned Poisson solve with a factorization of its own (many pinned vertices)."""
+        phi = np.zeros(self.laplacian.shape[0])
+        phi[P] = d
+        free = reached.copy()
+        free[P] = False
+        idx = np.flatnonzero(free)
+        if idx.size:
+            L = self.laplacian
+            rhs = b[idx] - L[idx][:, P] @ d
+            phi[idx] = self.factor_free(idx).solve(rhs)
+        return phi
