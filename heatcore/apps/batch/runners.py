@@ -9,8 +9,10 @@ leaves at most a temporary file, see :func:`heatcore.apps.batch.storage.clean_te
 
 Pool workers ignore SIGINT (the parent decides what Ctrl-C does) and exit
 when their parent process is gone, also when it was killed with SIGKILL: a
-watchdog thread in each worker polls the parent (every OS), and on Linux the
-kernel kills them too (``prctl(PR_SET_PDEATHSIG)``).
+watchdog thread in each worker polls the parent every
+:data:`WATCHDOG_INTERVAL` seconds (every OS, :func:`watch_parent`). There is
+no ``prctl(PR_SET_PDEATHSIG)`` on Linux: it needs ``ctypes``, which the
+package imports only in :mod:`heatcore.linalg`.
 
 Examples
 --------
@@ -21,7 +23,6 @@ Examples
 
 import os
 import signal
-import sys
 import threading
 import time
 import traceback
@@ -93,21 +94,32 @@ def watch_parent(parent_pid, interval=WATCHDOG_INTERVAL):
     return thread
 
 
-def _die_with_parent_linux():
-    try:
-        import ctypes
-
-        libc = ctypes.CDLL(None, use_errno=True)
-        libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG
-    except Exception:  # noqa: BLE001 - the watchdog thread covers it
-        pass
-
-
 def worker_init(parent_pid):
-    """Initializer of a pool worker: ignore SIGINT, die with the parent ``parent_pid``."""
+    """Initializer of a pool worker: ignore SIGINT, die with the parent ``parent_pid``.
+
+    Dying with the parent is the watchdog thread's job alone
+    (:func:`watch_parent`, on every OS): the worker exits at most about
+    :data:`WATCHDOG_INTERVAL` seconds after the parent is gone, as soon as the
+    thread gets the interpreter (numpy and the factorizations release it while
+    they compute). Linux's ``prctl(PR_SET_PDEATHSIG)`` is not used: it needs
+    ``ctypes``, which the package imports only in :mod:`heatcore.linalg`.
+
+    Parameters
+    ----------
+    parent_pid : int
+        The process that owns the work (see :func:`watch_parent`).
+
+    Examples
+    --------
+    Run in a child process (it changes the SIGINT handler of the process that calls it):
+
+    >>> import subprocess, sys
+    >>> code = ("import os, signal; from heatcore.apps.batch.runners import worker_init; "
+    ...         "worker_init(os.getppid()); print(signal.getsignal(signal.SIGINT) is signal.SIG_IGN)")
+    >>> subprocess.run([sys.executable, "-c", code], capture_output=True, text=True).stdout.strip()
+    'True'
+    """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    if sys.platform.startswith("linux"):
-        _die_with_parent_linux()
     watch_parent(parent_pid)  # also exits at once if the parent died before we got here
 
 
