@@ -33,14 +33,51 @@ class _Parser(argparse.ArgumentParser):
 
 
 def add_solver_options(parser):
-    """``--m``, ``--boundary``, ``--accuracy``, ``--no-robust``, ``--refine``, ``--weld-tolerance | --no-weld``."""
+    """Add ``--m``, ``--boundary``, ``--accuracy``, ``--no-robust``, ``--refine``, ``--weld-tolerance | --no-weld``.
+
+    One argument group, "solver options"; each option's flag, type, range,
+    default and help come from :mod:`heatcore.options` (:data:`SOLVER_OPTIONS`).
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+
+    Examples
+    --------
+    >>> p = _Parser(prog="demo")
+    >>> add_solver_options(p)
+    >>> args = p.parse_args(["--m", "4", "--refine", "0"])
+    >>> args.m, args.refine, args.boundary
+    (4.0, 0, 'robin')
+    """
     group = parser.add_argument_group("solver options")
     for name in SOLVER_OPTIONS:
         options.add_argument(group, name)
 
 
 def solver_keywords(args):
-    """``{"mesh": {...}, "solver": {...}}``: the parsed solver options by where they go."""
+    """``{"mesh": {...}, "solver": {...}}``: the parsed solver options by where they go.
+
+    Each option goes to its declared ``target`` in :mod:`heatcore.options`:
+    the domain (``mesh``) or :class:`~heatcore.HeatSolver` (``solver``).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed by a parser with :func:`add_solver_options`.
+
+    Returns
+    -------
+    dict of str to dict
+
+    Examples
+    --------
+    >>> p = _Parser(prog="demo")
+    >>> add_solver_options(p)
+    >>> kw = solver_keywords(p.parse_args(["--accuracy", "high", "--refine", "0"]))
+    >>> kw["mesh"]["refine"], kw["solver"]["accuracy"]
+    (0, 'high')
+    """
     kw = {"mesh": {}, "solver": {}}
     for name in SOLVER_OPTIONS:
         kw[options.OPTIONS[name].target][name] = getattr(args, name)
@@ -48,7 +85,22 @@ def solver_keywords(args):
 
 
 def add_output_options(parser, png_help=None):
-    """--colormap, --isolines and (given ``png_help``) --png."""
+    """Add ``--colormap``, ``--isolines`` and (given ``png_help``) ``--png``.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+    png_help : str, optional
+        Help text of ``--png``; without it there is no ``--png``.
+
+    Examples
+    --------
+    >>> p = _Parser(prog="demo")
+    >>> add_output_options(p, png_help="a picture")
+    >>> args = p.parse_args(["--colormap", "magma", "--png", "d.png"])
+    >>> args.colormap, args.isolines, args.png.name
+    ('magma', None, 'd.png')
+    """
     group = parser.add_argument_group("picture and colors")
     options.add_argument(group, "colormap")
     options.add_argument(group, "isolines")
@@ -57,10 +109,29 @@ def add_output_options(parser, png_help=None):
 
 
 def add_common_options(parser):
+    """Add the options every subcommand has: ``-q/--quiet``.
+
+    Examples
+    --------
+    >>> p = _Parser(prog="demo")
+    >>> add_common_options(p)
+    >>> p.parse_args(["-q"]).quiet, p.parse_args([]).quiet
+    (True, False)
+    """
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress or timing lines on stderr")
 
 
 def distance_arguments(p):
+    """Add the arguments of ``heatcore distance``: the mesh, sources, outputs, picture, solver options.
+
+    Examples
+    --------
+    >>> p = _Parser(prog="heatcore distance")
+    >>> distance_arguments(p)
+    >>> args = p.parse_args(["spot.obj", "-s", "0", "-s", "17", "-o", "d.npy"])
+    >>> args.mesh.name, args.source, args.output, args.refine
+    ('spot.obj', [0, 17], ['d.npy'], 'auto')
+    """
     p.add_argument("mesh", type=Path, metavar="MESH",
                    help="mesh file: PLY (keeps MeshLab's vertex selection), OBJ, OFF, STL, glTF, ...; "
                         "tetrahedral meshes (.msh, .vtu, .vtk, .mesh, .node/.ele); point clouds "
@@ -87,6 +158,16 @@ def distance_arguments(p):
 
 
 def demo_arguments(p):
+    """Add the arguments of ``heatcore demo``: the output folder, colours, solver options.
+
+    Examples
+    --------
+    >>> p = _Parser(prog="heatcore demo")
+    >>> demo_arguments(p)
+    >>> args = p.parse_args(["-d", "out", "--isolines", "8"])
+    >>> args.output_dir, args.isolines, args.colormap
+    ('out', 8, 'viridis')
+    """
     p.add_argument("-d", "--output-dir", default=".", metavar="DIR",
                    help="folder for demo.ply and demo.png, created if missing (default: current folder)")
     add_output_options(p)
@@ -95,6 +176,16 @@ def demo_arguments(p):
 
 
 def meshlab_arguments(p):
+    """Add the arguments of ``heatcore meshlab`` (:func:`heatcore.apps.meshlab.add_arguments`) and ``--quiet``.
+
+    Examples
+    --------
+    >>> p = _Parser(prog="heatcore meshlab")
+    >>> meshlab_arguments(p)
+    >>> args = p.parse_args(["scan.ply", "--sources", "0", "17"])
+    >>> args.input, args.sources, args.unreachable
+    ('scan.ply', [0, 17], -1.0)
+    """
     from . import meshlab
 
     meshlab.add_arguments(p)
@@ -102,6 +193,16 @@ def meshlab_arguments(p):
 
 
 def batch_arguments(p):
+    """Add the arguments of ``heatcore batch``: inputs, output folder, sources, execution, solver options.
+
+    Examples
+    --------
+    >>> p = _Parser(prog="heatcore batch")
+    >>> batch_arguments(p)
+    >>> args = p.parse_args(["meshes/", "-o", "out", "--sources", "farthest:8", "-j", "2"])
+    >>> args.inputs, args.output_dir.name, args.sources, args.workers, args.max_memory
+    (['meshes/'], 'out', 'farthest:8', 2, 1024.0)
+    """
     p.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="folders (their mesh files), glob patterns (quote them) or mesh files")
     p.add_argument("-o", "--output-dir", type=Path, required=True, metavar="DIR",

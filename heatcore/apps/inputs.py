@@ -65,7 +65,38 @@ def _non_negative_int(text):
 
 
 def read_sources_file(path):
-    """Vertex indices from a text file: integers separated by whitespace or commas; ``#`` comments."""
+    """Vertex indices from a text file: integers separated by whitespace or commas; ``#`` comments.
+
+    Parameters
+    ----------
+    path : path-like
+
+    Returns
+    -------
+    list of int
+        In file order, repeats kept.
+
+    Raises
+    ------
+    CliError
+        The file cannot be read, a token is not a vertex index (0-based, at
+        most :data:`MAX_INDEX`), or it holds no index.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = Path(tmp.name) / "sources.txt"
+    >>> _ = path.write_text("0, 17  # the nose\\n5\\n")
+    >>> read_sources_file(path)
+    [0, 17, 5]
+    >>> _ = path.write_text("0 x\\n")
+    >>> read_sources_file(path)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    heatcore.apps.outputs.CliError: .../sources.txt, line 1: 'x' is not a vertex index
+    >>> tmp.cleanup()
+    """
     path = Path(path)
     try:
         text = path.read_text()
@@ -92,6 +123,30 @@ def read_mesh_file(path, kind="auto"):
 
     meshio prints to stdout/stderr and calls ``sys.exit`` on some malformed
     files; a command must not die that way.
+
+    Parameters
+    ----------
+    path : path-like
+    kind : str, default "auto"
+        How to read the file (see :func:`heatcore.io.domain.read_domain`).
+
+    Returns
+    -------
+    heatcore.io.domain.DomainFile
+
+    Raises
+    ------
+    CliError
+        The reader printed and exited.
+    heatcore.errors.InvalidMeshError
+        The file is not a mesh :func:`~heatcore.io.domain.read_domain` can use.
+
+    Examples
+    --------
+    >>> from heatcore.io import demo_mesh_path
+    >>> mesh = read_mesh_file(demo_mesh_path())
+    >>> mesh.kind, len(mesh.vertices)
+    ('triangle', 2930)
     """
     from ..io.domain import read_domain
 
@@ -108,6 +163,19 @@ def check_sources(sources, n_vertices):
     """Fail before the precomputation when a source index cannot be a vertex (exit status 1).
 
     The range check is :func:`heatcore.options.check_source_vertices`, shared by the front ends.
+
+    Raises
+    ------
+    CliError
+        A source is negative or not below ``n_vertices``.
+
+    Examples
+    --------
+    >>> check_sources([0, 9], 10)
+    >>> check_sources([12], 10)
+    Traceback (most recent call last):
+    ...
+    heatcore.apps.outputs.CliError: source vertex 12 is out of range: the mesh has 10 vertices (0..9)
     """
     try:
         check_source_vertices(sources, n_vertices)
@@ -116,7 +184,20 @@ def check_sources(sources, n_vertices):
 
 
 def command_line_sources(args):
-    """Sources from --source and --sources-file (read before the mesh), or None."""
+    """Sources from --source and --sources-file (read before the mesh), or None.
+
+    Returns
+    -------
+    (k,) int64 array or None
+        Sorted and unique; None when neither option is given.
+
+    Examples
+    --------
+    >>> command_line_sources(argparse.Namespace(source=[17, 0, 17], sources_file=None))
+    array([ 0, 17])
+    >>> command_line_sources(argparse.Namespace(source=None, sources_file=None)) is None
+    True
+    """
     sources = list(args.source or [])
     for path in args.sources_file or []:
         sources += read_sources_file(path)
@@ -124,7 +205,43 @@ def command_line_sources(args):
 
 
 def gather_sources(args, mesh, given=None):
-    """Sources from the command line (``given``), else the mesh file's saved selection."""
+    """Sources from the command line (``given``), else the mesh file's saved selection.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Its ``mesh`` (the file's path) names the file in the returned origin.
+    mesh : heatcore.io.domain.DomainFile
+        The mesh read (:func:`read_mesh_file`).
+    given : array, optional
+        Sources from :func:`command_line_sources`.
+
+    Returns
+    -------
+    (array, str)
+        The sources and where they came from (for the progress line).
+
+    Raises
+    ------
+    CliError
+        No sources given and no selected vertex in the file.
+
+    Examples
+    --------
+    A PLY saved with one vertex selected (MeshLab's vertex flags):
+
+    >>> import tempfile
+    >>> from heatcore.io import write_ply
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = Path(tmp.name) / "tri.ply"
+    >>> write_ply(path, np.eye(3), [[0, 1, 2]], np.zeros(3), np.zeros((3, 3), np.uint8), selection=[1])
+    >>> mesh = read_mesh_file(path)
+    >>> gather_sources(argparse.Namespace(mesh=path), mesh)
+    (array([1]), 'the selection saved in tri.ply')
+    >>> gather_sources(argparse.Namespace(mesh=path), mesh, given=np.array([0, 2]))
+    (array([0, 2]), 'command line')
+    >>> tmp.cleanup()
+    """
     if given is not None:
         return given, "command line"
     selected = mesh.selected_vertices()

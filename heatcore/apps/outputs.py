@@ -38,13 +38,27 @@ PNG_ISOLINES = 12
 
 
 class CliError(HeatcoreError):
-    """A command-line input is unusable (sources file, output folder, ...): exit status 1."""
+    """A command-line input is unusable (sources file, output folder, ...): exit status 1.
+
+    Examples
+    --------
+    >>> error = CliError("cannot read sources file s.txt")
+    >>> isinstance(error, HeatcoreError), error.exit_status
+    (True, 1)
+    """
 
     exit_status = 1
 
 
 class UsageError(CliError):
-    """The command line contradicts itself (output names, option values): exit status 2."""
+    """The command line contradicts itself (output names, option values): exit status 2.
+
+    Examples
+    --------
+    >>> error = UsageError("output d.npy is given twice")
+    >>> isinstance(error, CliError), error.exit_status
+    (True, 2)
+    """
 
     exit_status = 2
 
@@ -151,7 +165,32 @@ def check_output_paths(outputs, png=None, inputs=(), overwrite=False):
 
 
 def check_outputs_fit(outputs, png, kind):
-    """Refuse outputs that cannot hold this kind of domain, before the precompute."""
+    """Refuse outputs that cannot hold this kind of domain, before the precompute.
+
+    Parameters
+    ----------
+    outputs : list of path-like
+        Data outputs (``-o``).
+    png : path-like or None
+        The picture (``--png``).
+    kind : str
+        The domain's kind (:attr:`heatcore.io.domain.DomainFile.kind`):
+        ``"triangle"``, ``"polygon"``, ``"tet"`` or ``"points"``.
+
+    Raises
+    ------
+    CliError
+        A volume format for a surface, a ``.ply`` for a tetrahedral mesh, or a
+        picture of a point cloud.
+
+    Examples
+    --------
+    >>> check_outputs_fit(["d.ply", "d.npy"], "d.png", "triangle")
+    >>> check_outputs_fit(["d.vtu"], None, "triangle")
+    Traceback (most recent call last):
+    ...
+    heatcore.apps.outputs.CliError: output d.vtu: .vtu/.vtk/.msh outputs are for tetrahedral meshes; use .ply, .npy or .csv
+    """
     for out in outputs:
         suffix = Path(out).suffix.lower()
         if suffix in VOLUME_OUTPUT_SUFFIXES and kind != "tet":
@@ -164,7 +203,49 @@ def check_outputs_fit(outputs, png, kind):
 
 def write_output(path, V, F, d, sources, colormap, isolines):
     """Write distances by extension, atomically: .ply (quality + colors + selection), .npy, .csv,
-    or .vtu/.vtk/.msh (``F`` the tets; a point-data field ``distance``)."""
+    or .vtu/.vtk/.msh (``F`` the tets; a point-data field ``distance``).
+
+    Parameters
+    ----------
+    path : path-like
+        The output; its suffix picks the format (:data:`OUTPUT_SUFFIXES`).
+    V : (n, 3) array
+        Vertex positions.
+    F : (m, 3) or (m, 4) int array
+        Triangles (``.ply``) or tetrahedra (``.vtu``, ``.vtk``, ``.msh``);
+        unused by ``.npy`` and ``.csv``.
+    d : (n,) array
+        The distances (``inf`` where unreachable).
+    sources : array of int
+        Source vertices: the saved selection of a ``.ply``.
+    colormap : str
+        Vertex colours of a ``.ply`` (:mod:`heatcore.viz.colormap`).
+    isolines : int or None
+        Dark isoline stripes in the colours of a ``.ply`` (None: none).
+
+    Raises
+    ------
+    UsageError
+        An unknown extension.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+    >>> d = np.array([0.0, 1.0, 1.0])
+    >>> write_output(Path(tmp.name) / "d.csv", V, [[0, 1, 2]], d, [0], "viridis", None)
+    >>> print((Path(tmp.name) / "d.csv").read_text())
+    index,distance
+    0,0
+    1,1
+    2,1
+    <BLANKLINE>
+    >>> write_output(Path(tmp.name) / "d.ply", V, [[0, 1, 2]], d, [0], "viridis", 4)
+    >>> sorted(p.name for p in Path(tmp.name).iterdir())
+    ['d.csv', 'd.ply']
+    >>> tmp.cleanup()
+    """
     from ..viz.colormap import colorize, to_uint8
 
     path = Path(path)
@@ -188,7 +269,39 @@ def write_output(path, V, F, d, sources, colormap, isolines):
 
 
 def render_png(path, V, F, d, sources, colormap, isolines, title=None, view=None):
-    """Draw the distance field into a PNG file, atomically (:func:`heatcore.viz.render.render_distance`)."""
+    """Draw the distance field into a PNG file, atomically (:func:`heatcore.viz.render.render_distance`).
+
+    Parameters
+    ----------
+    path : path-like
+        The picture.
+    V, F : arrays
+        Vertex positions (n, 3) and triangles (m, 3).
+    d : (n,) array
+        The distances.
+    sources : array of int
+        Source vertices, marked in the picture.
+    colormap : str
+        A heatcore colormap (:mod:`heatcore.viz.colormap`).
+    isolines : int or None
+        Isolines drawn (None: :data:`PNG_ISOLINES`).
+    title : str, optional
+    view : dict, optional
+        Camera keywords of :func:`~heatcore.viz.render.render_distance`
+        (``elevation``, ``azimuth``, ``up``).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
+    >>> F = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    >>> png = Path(tmp.name) / "d.png"
+    >>> render_png(png, V, F, np.array([0.0, 1.0, 1.0, 1.0]), [0], "viridis", 4, title="tetrahedron")
+    >>> png.read_bytes()[:4]
+    b'\\x89PNG'
+    >>> tmp.cleanup()
+    """
     from ..viz.render import render_distance
 
     with atomic_output(path) as tmp:

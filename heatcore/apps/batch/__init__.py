@@ -53,7 +53,11 @@ The package, one concept per module; this module re-exports the public API:
 :mod:`~heatcore.apps.batch.keys`
     what a result was computed from (its key);
 :mod:`~heatcore.apps.batch.storage`
-    atomic files, block files, temporary files, reading results back;
+    atomic files, block files, temporary files, the index;
+:mod:`~heatcore.apps.batch.results`
+    reading results back: complete and current (:func:`check_result`), their rows;
+:mod:`~heatcore.apps.batch.processes`
+    whether a process still runs (POSIX, Windows), for temporary files and pool workers;
 :mod:`~heatcore.apps.batch.task`
     one mesh: read, factor once, solve its sources in blocks, write;
 :mod:`~heatcore.apps.batch.runners`

@@ -31,6 +31,7 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 from ...errors import HeatcoreError, InvalidOptionError
+from .processes import pid_alive
 
 #: Seconds between two checks of the parent process in a pool worker.
 WATCHDOG_INTERVAL = 0.2
@@ -59,9 +60,7 @@ def crash_row(task, exc):
 def _parent_gone(parent_pid, direct):
     if direct:  # our parent itself (fork, spawn): re-parented to init or a subreaper once it died
         return os.getppid() != parent_pid
-    from .storage import pid_alive  # started by a fork server, or on Windows
-
-    return not pid_alive(parent_pid)
+    return not pid_alive(parent_pid)  # started by a fork server, or on Windows
 
 
 def watch_parent(parent_pid, interval=WATCHDOG_INTERVAL):

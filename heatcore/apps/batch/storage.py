@@ -1,10 +1,11 @@
-"""Storage of batch results: result keys, atomic writes, temporary files, block files, reading back.
+"""Storage of batch results: atomic writes, temporary files, block files, the index.
 
 Every result a batch writes carries the key of what it was computed from
 (:func:`heatcore.apps.batch.keys.result_key`): the ``NAME.npz`` index stores it
 (``key``), and each block file of ``NAME.blocks/`` has its digest in its name
 (``rows-START-STOP-DIGEST.npy``). A rerun reuses a result, or a block, only when
-its key equals the new key exactly (:func:`check_result`).
+its key equals the new key exactly (:func:`heatcore.apps.batch.results.check_result`).
+Reading results back is :mod:`heatcore.apps.batch.results` (re-exported here).
 
 Files are written under a temporary name ``.NAME.tmp-PID-HOST-RANDOM`` and
 renamed when complete (:func:`save_atomic`); :func:`clean_temporaries` removes
@@ -14,10 +15,12 @@ Examples
 --------
 >>> import tempfile
 >>> from pathlib import Path
->>> folder = Path(tempfile.mkdtemp())
+>>> tmp = tempfile.TemporaryDirectory()
+>>> folder = Path(tmp.name)
 >>> save_atomic(folder / "a.txt", lambda fh: fh.write(b"done"))
 >>> sorted(p.name for p in folder.iterdir())
 ['a.txt']
+>>> tmp.cleanup()
 """
 
 import csv
@@ -39,6 +42,16 @@ from .keys import (  # noqa: F401 - re-exported
     option_defaults,
     result_key,
     sources_file_path,
+)
+from .processes import pid_alive  # also re-exported: storage.pid_alive
+from .results import (  # noqa: F401 - re-exported: reading results back
+    _block_ok,
+    block_name,
+    check_result,
+    iter_blocks,
+    load_distances,
+    load_key,
+    load_sources,
 )
 
 SUMMARY_NAME = "summary.csv"
@@ -100,89 +113,6 @@ def save_atomic(path, save):
             tmp.unlink()
 
 
-def _pid_alive_windows(pid):
-    """Windows: ask the kernel through the standard library's ``_winapi``, else psutil, else say yes.
-
-    ``_winapi`` (the module behind :mod:`subprocess` and :mod:`multiprocessing`
-    on Windows) opens the process for a limited query: access denied means it
-    exists, no such process means it is gone, and a process that opened is
-    alive while its exit code is ``STILL_ACTIVE``. No ``ctypes`` (the house
-    rule: ctypes lives only in :mod:`heatcore.linalg`). Without ``_winapi``
-    (another Python) ``psutil`` answers when importable; without either, the
-    answer is the conservative "alive": a lock or temporary file is never
-    taken from a live writer (at worst a dead one's waits for
-    :data:`STALE_TEMPORARY_SECONDS`).
-    """
-    try:
-        import _winapi
-    except ImportError:
-        _winapi = None
-    if _winapi is not None and hasattr(_winapi, "OpenProcess"):
-        try:
-            handle = _winapi.OpenProcess(0x1000, False, pid)  # PROCESS_QUERY_LIMITED_INFORMATION
-        except PermissionError:  # access denied: it exists
-            return True
-        except OSError:  # ERROR_INVALID_PARAMETER: no such process
-            return False
-        try:
-            return _winapi.GetExitCodeProcess(handle) == getattr(_winapi, "STILL_ACTIVE", 259)
-        except OSError:
-            return False
-        finally:
-            _winapi.CloseHandle(handle)
-    try:
-        import psutil
-    except ImportError:
-        return True
-    try:
-        return psutil.Process(pid).is_running()
-    except psutil.NoSuchProcess:
-        return False
-    except psutil.Error:  # access denied and the like: it exists
-        return True
-
-
-def pid_alive(pid):
-    """Whether a process with this id runs on this machine (POSIX and Windows).
-
-    POSIX: ``os.kill(pid, 0)``, and on Linux a zombie (exited, not yet reaped)
-    counts as gone. Windows (where ``os.kill(pid, 0)`` would terminate the
-    process): the standard library's ``_winapi`` queries the process, else
-    ``psutil``, else the pid is taken as alive (conservative: nothing of a
-    live writer is ever removed). No ``ctypes`` here: it lives only in
-    :mod:`heatcore.linalg`.
-
-    Parameters
-    ----------
-    pid : int
-        A process id; ``0`` and negative ids are never alive.
-
-    Returns
-    -------
-    bool
-
-    Examples
-    --------
-    >>> pid_alive(os.getpid()), pid_alive(0)
-    (True, False)
-    """
-    if pid <= 0:
-        return False
-    if os.name == "nt":
-        return _pid_alive_windows(pid)
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except OSError:  # EPERM: someone else's process
-        return True
-    try:  # Linux: an exited process not yet reaped (a zombie) no longer runs
-        with open(f"/proc/{pid}/stat", "rb") as fh:
-            return fh.read().rsplit(b")", 1)[1].split()[0] != b"Z"
-    except (OSError, IndexError):
-        return True
-
-
 def clean_temporaries(folder, max_age=STALE_TEMPORARY_SECONDS):
     """Remove temporary files of writers that are gone, in ``folder`` and its ``*.blocks`` folders.
 
@@ -237,21 +167,25 @@ def clean_temporaries(folder, max_age=STALE_TEMPORARY_SECONDS):
 # --------------------------------------------------------------------------- blocks and index
 
 
-def block_name(start, stop, digest=None):
-    """File name of the block holding rows ``start:stop`` of the result with key digest ``digest``."""
-    return f"rows-{start:09d}-{stop:09d}" + (f"-{digest}" if digest else "") + ".npy"
-
-
-def _block_ok(path, rows, n):
-    try:
-        block = np.load(path, mmap_mode="r")
-    except (OSError, ValueError):
-        return False
-    return block.shape == (rows, n) and block.dtype == np.float64
-
-
 def discard_blocks(block_dir, keep=()):
-    """Remove the block files of ``block_dir`` not named in ``keep`` (and the folder once empty)."""
+    """Remove the block files of ``block_dir`` not named in ``keep`` (and the folder once empty).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> blocks = Path(tmp.name) / "mesh.blocks"
+    >>> blocks.mkdir()
+    >>> for name in (block_name(0, 2, "aa"), block_name(0, 2, "bb")):
+    ...     np.save(blocks / name, np.zeros((2, 3)))
+    >>> discard_blocks(blocks, keep={block_name(0, 2, "aa")})
+    >>> [p.name for p in blocks.iterdir()]
+    ['rows-000000000-000000002-aa.npy']
+    >>> discard_blocks(blocks)
+    >>> blocks.exists()
+    False
+    >>> tmp.cleanup()
+    """
     block_dir = Path(block_dir)
     if not block_dir.is_dir():
         return
@@ -271,6 +205,36 @@ class BlockWriter:
     Block files are written atomically as they fill and are named by the
     result's key digest; with known sources a rerun with the same key reuses
     complete block files of the same layout (resume inside a mesh).
+
+    Parameters
+    ----------
+    out : path-like
+        The result index ``NAME.npz``; block files go to ``NAME.blocks/``.
+    n : int
+        Distances per row (the mesh's vertices).
+    rows_per_block : int
+        Rows held at once (:func:`heatcore.apps.batch.task.block_rows`).
+    total : int or None
+        Rows to come, when known (not for ``farthest:K``, which may stop early).
+    key : str
+        The result's key (:func:`heatcore.apps.batch.keys.result_key`).
+
+    Examples
+    --------
+    Three rows, two per block: two block files, then the index.
+
+    >>> import tempfile
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> out = Path(tmp.name) / "grid.npz"
+    >>> writer = BlockWriter(out, 4, rows_per_block=2, total=3, key='{"demo": 1}')
+    >>> for value in (0.0, 1.0, 2.0):
+    ...     writer.add(np.full(4, value))
+    >>> writer.finish([5, 6, 7], "5,6,7")
+    >>> [(start, rows.shape) for start, rows in iter_blocks(out)]
+    [(0, (2, 4)), (2, (1, 4))]
+    >>> check_result(out, '{"demo": 1}')
+    (True, '', {'vertices': 4, 'sources': 3})
+    >>> tmp.cleanup()
     """
 
     def __init__(self, out, n, rows_per_block, total, key):
@@ -331,7 +295,34 @@ class BlockWriter:
 
 
 def write_index(out, sources, n, spec, key, **arrays):
-    """Write the result index ``out`` (``.npz``) atomically, with its key."""
+    """Write the result index ``out`` (``.npz``) atomically, with its key.
+
+    Parameters
+    ----------
+    out : path-like
+        The index ``NAME.npz``.
+    sources : sequence of int
+        The source vertex of each row (or the union's sources).
+    n : int
+        Vertices of the mesh.
+    spec : SourceSpec or str
+        The source specification, stored as text.
+    key : str
+        What the result was computed from (:func:`heatcore.apps.batch.keys.result_key`).
+    **arrays
+        ``distances=`` (rows in the index) or ``block_dir=``, ``block_starts=``,
+        ``block_key=`` (rows in block files).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> out = Path(tmp.name) / "tri.npz"
+    >>> write_index(out, [0], 3, "0", "{}", distances=np.array([[0.0, 1.0, 1.0]]))
+    >>> load_sources(out), load_distances(out)
+    (array([0]), array([[0., 1., 1.]]))
+    >>> tmp.cleanup()
+    """
     from ... import __version__
 
     payload = {"sources": np.asarray(sources, np.int64), "n_vertices": np.int64(n), "spec": np.str_(str(spec)),
@@ -340,92 +331,26 @@ def write_index(out, sources, n, spec, key, **arrays):
     save_atomic(out, lambda fh: np.savez_compressed(fh, **payload))
 
 
-def _block_paths(path, z):
-    block_dir, starts = Path(path).parent / str(z["block_dir"]), z["block_starts"]
-    digest = str(z["block_key"]) if "block_key" in z.files else None
-    return [(int(a), int(b), block_dir / block_name(a, b, digest)) for a, b in zip(starts[:-1], starts[1:])]
-
-
-def check_result(out, key):
-    """Whether the result ``out`` is complete and was computed from ``key``.
-
-    Returns
-    -------
-    (bool, str, dict)
-        Match, the reason when not, and ``vertices`` / ``sources`` counts read
-        from the index (empty when unreadable).
+def discard_result(out, keep_digest=None):
+    """Remove a stale result: its index, and its block files except those of key digest ``keep_digest``.
 
     Examples
     --------
-    >>> check_result("no/such/result.npz", "{}")
-    (False, 'no result', {})
+    >>> import tempfile
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> out = Path(tmp.name) / "tri.npz"
+    >>> write_index(out, [0], 3, "0", "{}", distances=np.zeros((1, 3)))
+    >>> discard_result(out)
+    >>> out.exists()
+    False
+    >>> tmp.cleanup()
     """
-    out = Path(out)
-    if not out.is_file():
-        return False, "no result", {}
-    try:
-        with np.load(out) as z:
-            info = {"vertices": int(z["n_vertices"]), "sources": int(z["sources"].size)}
-            stored = str(z["key"]) if "key" in z.files else None
-            blocks = [] if "distances" in z.files else _block_paths(out, z)
-    except Exception as exc:  # noqa: BLE001 - any unreadable index is "not a result"
-        return False, f"unreadable ({type(exc).__name__}: {exc})", {}
-    if stored != key:
-        return False, describe_difference(stored, key), info
-    for a, b, path in blocks:
-        if not _block_ok(path, b - a, info["vertices"]):
-            return False, f"block file {path.name} is missing or incomplete", info
-    return True, "", info
-
-
-def discard_result(out, keep_digest=None):
-    """Remove a stale result: its index, and its block files except those of key digest ``keep_digest``."""
     out = Path(out)
     out.unlink(missing_ok=True)
     block_dir = out.with_suffix(".blocks")
     if block_dir.is_dir():
         keep = {p.name for p in block_dir.glob(f"rows-*-{keep_digest}.npy")} if keep_digest else set()
         discard_blocks(block_dir, keep)
-
-
-# --------------------------------------------------------------------------- reading results
-
-
-def iter_blocks(path, mmap=True):
-    """Yield ``(first_row, rows)`` blocks of a batch result, in order.
-
-    Parameters
-    ----------
-    path : path-like
-        A result index ``NAME.npz``.
-    mmap : bool, default True
-        Memory-map block files instead of reading them.
-    """
-    path = Path(path)
-    with np.load(path) as z:
-        if "distances" in z.files:
-            yield 0, z["distances"]
-            return
-        blocks = _block_paths(path, z)
-    for a, _, block in blocks:
-        yield a, np.load(block, mmap_mode="r" if mmap else None)
-
-
-def load_distances(path):
-    """All distance rows of a batch result as one ``(k, n)`` array (in memory: small results only)."""
-    return np.concatenate([np.asarray(b) for _, b in iter_blocks(path, mmap=False)], axis=0)
-
-
-def load_sources(path):
-    """The source vertex of each row (or the union's sources) of a batch result."""
-    with np.load(path) as z:
-        return z["sources"]
-
-
-def load_key(path):
-    """The key a result was computed from (JSON text; None for results of older versions)."""
-    with np.load(path) as z:
-        return str(z["key"]) if "key" in z.files else None
 
 
 def write_summary(path, rows):
