@@ -46,7 +46,13 @@ def file_digest(path, chunk=1 << 20):
 
 
 def sources_file_path(mesh_path, suffix):
-    """The sources file of a mesh: ``bunny.obj`` with suffix ``.sources.txt`` gives ``bunny.sources.txt``."""
+    """The sources file of a mesh: ``bunny.obj`` with suffix ``.sources.txt`` gives ``bunny.sources.txt``.
+
+    Examples
+    --------
+    >>> sources_file_path("meshes/bunny.obj", ".sources.txt").as_posix()
+    'meshes/bunny.sources.txt'
+    """
     mesh_path = Path(mesh_path)
     return mesh_path.with_name(mesh_path.stem + suffix)
 

@@ -141,6 +141,24 @@ def run_batch(inputs, output_dir, sources=None, *, sources_suffix=None, union=Fa
         Re-raised after Ctrl-C, once queued work is cancelled, the pool's
         workers are stopped and ``summary.csv`` lists what is on disk (meshes
         not finished have status ``interrupted``).
+
+    Examples
+    --------
+    Two sources on the bundled mesh, in this process; a rerun with the same
+    inputs finds the result and skips it:
+
+    >>> import tempfile
+    >>> from heatcore.io import demo_mesh_path
+    >>> from heatcore.apps.batch import load_distances
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> rows = run_batch([demo_mesh_path()], tmp.name, "0,17", workers=0, progress=False)
+    >>> rows[0]["status"], rows[0]["sources"], load_distances(output_path(tmp.name, "spot.obj")).shape
+    ('ok', 2, (2, 2930))
+    >>> run_batch([demo_mesh_path()], tmp.name, "0,17", workers=0, progress=False)[0]["status"]
+    'skipped'
+    >>> sorted(p.name for p in Path(tmp.name).iterdir())
+    ['spot.npz', 'summary.csv']
+    >>> tmp.cleanup()
     """
     spec = sources if isinstance(sources, SourceSpec) else parse_sources(sources, suffix=sources_suffix, union=union)
     if not (isinstance(max_memory_mb, (int, float)) and np.isfinite(max_memory_mb) and max_memory_mb > 0):

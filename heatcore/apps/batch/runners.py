@@ -40,7 +40,18 @@ ORPHAN_EXIT_STATUS = 70
 
 
 def error_message(exc):
-    """One line for a failed task: the message of a heatcore error, else type, message and place."""
+    """One line for a failed task: the message of a heatcore error, else type, message and place.
+
+    Examples
+    --------
+    >>> error_message(HeatcoreError("mesh.obj is empty (0 bytes)"))
+    'mesh.obj is empty (0 bytes)'
+    >>> try:
+    ...     int("x")
+    ... except ValueError as exc:
+    ...     error_message(exc)  # doctest: +ELLIPSIS
+    "ValueError: invalid literal for int() with base 10: 'x' (at ...)"
+    """
     if isinstance(exc, HeatcoreError):
         return str(exc)
     frame = traceback.extract_tb(exc.__traceback__)[-1] if exc.__traceback__ else None
@@ -49,7 +60,13 @@ def error_message(exc):
 
 
 def crash_row(task, exc):
-    """The summary row of a task whose worker failed (killed, lost)."""
+    """The summary row of a task whose worker failed (killed, lost).
+
+    Examples
+    --------
+    >>> crash_row("meshes/a.obj", OSError("killed"))
+    {'file': 'meshes/a.obj', 'vertices': '', 'sources': '', 'seconds': '', 'status': 'error', 'error': 'worker failed: OSError: killed'}
+    """
     return {"file": str(getattr(task, "path", task)), "vertices": "", "sources": "", "seconds": "",
             "status": "error", "error": f"worker failed: {error_message(exc)}"}
 
@@ -129,6 +146,22 @@ def stop_pool(pool, grace=1.0):
     """Cancel queued tasks and end the worker processes of ``pool`` now (terminate, then kill).
 
     Returns once every worker has exited, so nothing of the pool writes afterwards.
+
+    Parameters
+    ----------
+    pool : concurrent.futures.ProcessPoolExecutor
+    grace : float, default 1.0
+        Seconds the workers get to exit after SIGTERM before they are killed.
+
+    Examples
+    --------
+    >>> pool = ProcessPoolExecutor(1)
+    >>> future = pool.submit(time.sleep, 60)
+    >>> workers = list(pool._processes.values())
+    >>> start = time.monotonic()
+    >>> stop_pool(pool)
+    >>> time.monotonic() - start < 5, future.done(), any(p.is_alive() for p in workers)
+    (True, True, False)
     """
     processes = list((getattr(pool, "_processes", None) or {}).values())
     pool.shutdown(wait=False, cancel_futures=True)
@@ -149,6 +182,30 @@ def run_pool(tasks, workers, fn):
     A task whose worker dies gets an error row (:func:`crash_row`). Closing the
     generator early, or an exception while it waits, stops the pool at once
     (:func:`stop_pool`).
+
+    Parameters
+    ----------
+    tasks : iterable
+        Picklable tasks (:class:`~heatcore.apps.batch.spec.MeshTask` in a batch).
+    workers : int
+        At most this many processes (no more than there are tasks).
+    fn : callable
+        A picklable function, ``fn(task) -> row`` (a dict in a batch).
+
+    Yields
+    ------
+    (task, row)
+        In completion order.
+
+    Examples
+    --------
+    >>> sorted(row for _, row in run_pool([-1, 2, -3], 2, abs))
+    [1, 2, 3]
+
+    A worker that dies (here it exits at once) fails its task only:
+
+    >>> [(task, row["status"]) for task, row in run_pool([0], 1, os._exit)]
+    [(0, 'error')]
     """
     tasks = list(tasks)
     pool = ProcessPoolExecutor(max_workers=min(workers, max(len(tasks), 1)), initializer=worker_init,
@@ -181,6 +238,42 @@ def run_dask(tasks, scheduler, fn):
     scheduler on another worker (each task gives one row). Closing the
     generator early cancels the tasks not finished; a task already running on
     a worker cannot be interrupted and still writes its result (atomically).
+
+    Parameters
+    ----------
+    tasks : list of MeshTask
+        Their ``path`` names the Dask tasks.
+    scheduler : str or distributed.Client
+        A scheduler's address (a client is made and closed here) or a client
+        (left open).
+    fn : callable
+        ``fn(task) -> row``, run on the workers.
+
+    Yields
+    ------
+    (task, row)
+        In completion order.
+
+    Raises
+    ------
+    InvalidOptionError
+        ``dask.distributed`` is not installed.
+    BatchError
+        The scheduler cannot be reached (within 30 s).
+
+    Examples
+    --------
+    With a running cluster (``dask scheduler``, ``dask worker ...``), not run here::
+
+        rows = dict(run_dask(tasks, "tcp://10.0.0.5:8786", process_mesh))
+
+    Nothing happens before the first row is asked for (no import of Dask, no
+    connection), and a generator closed before that leaves nothing behind:
+
+    >>> rows = run_dask([], "tcp://10.0.0.5:8786", abs)
+    >>> rows.close()
+    >>> list(rows)
+    []
     """
     from .spec import BatchError
 

@@ -22,7 +22,15 @@ DEFAULT_MAX_MEMORY_MB = 1024.0
 
 
 class BatchError(HeatcoreError):
-    """A batch cannot start: bad inputs, source specification or options."""
+    """A batch cannot start: bad inputs, source specification or options.
+
+    Examples
+    --------
+    >>> parse_sources("farthest:0")
+    Traceback (most recent call last):
+    ...
+    heatcore.apps.batch.spec.BatchError: farthest:K needs K >= 1
+    """
 
 
 # --------------------------------------------------------------------------- specification
@@ -44,6 +52,14 @@ class SourceSpec:
     union : bool
         One distance row to the union of the sources instead of one row per source
         (modes "indices" and "file").
+
+    Examples
+    --------
+    Usually made by :func:`parse_sources`; its text is what ``summary.csv`` and the result index record.
+
+    >>> spec = SourceSpec("indices", indices=(0, 17), union=True)
+    >>> str(spec), str(SourceSpec("farthest", k=8)), str(SourceSpec("file", suffix=".sources.txt"))
+    ('0,17 (union)', 'farthest:8', 'file:.sources.txt')
     """
 
     mode: str
@@ -126,7 +142,29 @@ def parse_sources(text=None, *, suffix=None, union=False):
 
 @dataclass(frozen=True)
 class MeshTask:
-    """Everything one worker needs for one mesh (picklable)."""
+    """Everything one worker needs for one mesh (picklable).
+
+    Attributes
+    ----------
+    path : str
+        The mesh file.
+    output_dir : str
+        Where ``NAME.npz`` goes (:func:`output_path`).
+    spec : SourceSpec
+    max_memory_mb : float
+        Bound on the distance rows held at once, in MB.
+    kind : str
+        How to read the file (see :func:`heatcore.io.domain.read_domain`).
+    mesh_options, solver_options : dict
+        Keywords of the domain and of :class:`~heatcore.HeatSolver`.
+
+    Examples
+    --------
+    >>> import pickle
+    >>> task = MeshTask("meshes/spot.obj", "out", parse_sources("0,17"), solver_options={"m": 2.0})
+    >>> pickle.loads(pickle.dumps(task)) == task, str(task.spec)
+    (True, '0,17')
+    """
 
     path: str
     output_dir: str
@@ -147,10 +185,31 @@ def find_inputs(inputs):
     not recursive); patterns are expanded with :func:`glob.glob` (``**``
     allowed).
 
+    Returns
+    -------
+    list of pathlib.Path
+        Absolute paths, in the order found (folders and matches sorted).
+
     Raises
     ------
     BatchError
         An input matches nothing, or two inputs would write the same output name.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> for name in ("b.ply", "a.obj", "notes.txt"):
+    ...     _ = (Path(tmp.name) / name).write_text("")
+    >>> [p.name for p in find_inputs(tmp.name)]
+    ['a.obj', 'b.ply']
+    >>> [p.name for p in find_inputs([str(Path(tmp.name) / "*.ply"), Path(tmp.name) / "a.obj"])]
+    ['b.ply', 'a.obj']
+    >>> find_inputs(Path(tmp.name) / "missing.obj")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    heatcore.apps.batch.spec.BatchError: input .../missing.obj: no such file or folder, and no file matches it as a pattern
+    >>> tmp.cleanup()
     """
     if isinstance(inputs, (str, os.PathLike)):
         inputs = [inputs]
@@ -178,5 +237,11 @@ def find_inputs(inputs):
 
 
 def output_path(output_dir, mesh_path):
-    """The result index ``OUTPUT_DIR/NAME.npz`` of mesh ``NAME.EXT``."""
+    """The result index ``OUTPUT_DIR/NAME.npz`` of mesh ``NAME.EXT``.
+
+    Examples
+    --------
+    >>> output_path("out", "meshes/bunny.obj").as_posix()
+    'out/bunny.npz'
+    """
     return Path(output_dir) / f"{Path(mesh_path).stem}.npz"

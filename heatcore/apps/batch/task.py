@@ -39,6 +39,15 @@ def block_rows(n_vertices, max_memory_mb):
     ------
     BatchError
         Not even one row fits.
+
+    Examples
+    --------
+    >>> block_rows(1000, 1.0)  # 1 MB of rows of 1000 float64 distances
+    131
+    >>> block_rows(10**6, 1.0)
+    Traceback (most recent call last):
+    ...
+    heatcore.apps.batch.spec.BatchError: --max-memory 1 MB is below one distance row of this mesh (1000000 vertices = 7.63 MB)
     """
     bound = max_memory_mb * 1024 * 1024
     rows = int(bound // (_BYTES_PER_VALUE * n_vertices))
@@ -71,6 +80,18 @@ def source_rows(solver, sources, rows_done=(), columns=None):
     Yields
     ------
     (n,) float array or None
+
+    Examples
+    --------
+    >>> import heatcore as hc
+    >>> V = [[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]]
+    >>> F = [[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]]
+    >>> solver = hc.HeatSolver(hc.TriangleMesh(np.array(V, float), np.array(F), refine=3))  # octahedron
+    >>> rows = list(source_rows(solver, [0, 1, 2], rows_done={1}, columns=2))
+    >>> rows[1] is None, rows[0].round(2)
+    (True, array([0.  , 2.49, 1.34, 1.34, 1.34, 1.34]))
+    >>> np.allclose(rows[2], solver.distance([2]), rtol=0, atol=1e-10)
+    True
     """
     columns = columns or solver.block_columns()
     for start in range(0, len(sources), columns):
@@ -106,6 +127,17 @@ def farthest_point_sources(solver, k, n, candidates=None):
     ------
     InvalidSourceError
         Fewer than ``k`` distinct vertices can be chosen.
+
+    Examples
+    --------
+    On an octahedron the farthest vertex from vertex 0 is its opposite, vertex 1:
+
+    >>> import heatcore as hc
+    >>> V = [[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]]
+    >>> F = [[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]]
+    >>> solver = hc.HeatSolver(hc.TriangleMesh(np.array(V, float), np.array(F), refine=3))  # octahedron
+    >>> [(source, row.round(2).tolist()) for source, row in farthest_point_sources(solver, 2, 6)]
+    [(0, [0.0, 2.49, 1.34, 1.34, 1.34, 1.34]), (1, [2.49, 0.0, 1.34, 1.34, 1.34, 1.34])]
     """
     allowed = np.ones(n, bool) if candidates is None else np.asarray(candidates, bool)
     if allowed.sum() < k:
@@ -136,6 +168,19 @@ def process_mesh(task):
     dict
         A summary row: file, vertices, sources, seconds, status ("ok" or
         "error"), error (message, empty when ok).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from heatcore.io import demo_mesh_path
+    >>> from heatcore.apps.batch import MeshTask, load_distances, parse_sources
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> row = process_mesh(MeshTask(str(demo_mesh_path()), tmp.name, parse_sources("0,17")))
+    >>> row["status"], row["vertices"], row["sources"], load_distances(output_path(tmp.name, "spot.obj")).shape
+    ('ok', 2930, 2, (2, 2930))
+    >>> process_mesh(MeshTask(str(demo_mesh_path()), tmp.name, parse_sources("5000")))["error"]
+    'source vertex 5000 is out of range: the mesh has 2930 vertices (0..2929)'
+    >>> tmp.cleanup()
     """
     start = time.perf_counter()
     row = {"file": str(task.path), "vertices": "", "sources": "", "seconds": "", "status": "error", "error": ""}
