@@ -26,7 +26,6 @@ heatcore ...
 
 import logging
 import sys
-import time
 import warnings
 from collections.abc import Callable
 from pathlib import Path
@@ -59,6 +58,7 @@ from .outputs import (  # noqa: F401 (check_outputs_fit, OUTPUT_SUFFIXES: part o
     render_png,
     write_output,
 )
+from .reporting import _seconds, _show_warning, _stage, _StderrHandler, _summary
 
 log = logging.getLogger("heatcore.apps.cli")
 
@@ -72,7 +72,16 @@ DEMO_VIEW = {"elevation": 15.0, "azimuth": 150.0, "up": "y"}
 
 
 def build_solver(source, args):
-    """Domain + HeatSolver from a :class:`~heatcore.io.domain.DomainFile` and the solver options."""
+    """Domain + HeatSolver from a :class:`~heatcore.io.domain.DomainFile` and the solver options.
+
+    Examples
+    --------
+    >>> from heatcore.io import demo_mesh_path
+    >>> args = build_parser().parse_args(["distance", "spot.obj", "-o", "d.npy", "--refine", "0"])
+    >>> solver = build_solver(read_mesh_file(demo_mesh_path()), args)
+    >>> solver.distance([0]).shape
+    (2930,)
+    """
     from ..heat import HeatSolver
 
     kw = solver_keywords(args)
@@ -87,6 +96,14 @@ def build_solver(source, args):
 # --------------------------------------------------------------------------- registry
 
 class Command(NamedTuple):
+    """A subcommand in :data:`COMMANDS`: its help, description, arguments and run functions.
+
+    Examples
+    --------
+    >>> COMMANDS["distance"].run is run_distance, COMMANDS["distance"].arguments is distance_arguments
+    (True, True)
+    """
+
     help: str
     description: str
     arguments: Callable  # arguments(parser): adds the subcommand's options
@@ -101,6 +118,17 @@ def command(name, *, arguments, help, description=None):
     """Decorator registering ``run(args) -> int`` as subcommand ``name``.
 
     ``arguments(parser)`` adds the subcommand's options to its parser.
+
+    Examples
+    --------
+    >>> @command("hello", arguments=add_common_options, help="say hello")
+    ... def run_hello(args):
+    ...     print("hello" if not args.quiet else "")
+    ...     return 0
+    >>> main(["hello"])
+    hello
+    0
+    >>> del COMMANDS["hello"]
     """
 
     def register(run):
@@ -108,40 +136,6 @@ def command(name, *, arguments, help, description=None):
         return run
 
     return register
-
-
-# --------------------------------------------------------------------------- helpers
-
-
-class _stage:
-    """Context manager that logs ``<name>: <time>`` (stderr via the ``heatcore`` logger) and records it."""
-
-    timings = {}
-
-    def __init__(self, name):
-        self.name = name
-
-    def __enter__(self):
-        self.start = time.perf_counter()
-        return self
-
-    def __exit__(self, exc_type, exc, tb):
-        if exc_type is None:
-            seconds = time.perf_counter() - self.start
-            _stage.timings[self.name] = seconds
-            log.info("%s: %s", self.name, _seconds(seconds))
-
-
-def _seconds(seconds):
-    return f"{seconds * 1000:.1f} ms" if seconds < 0.1 else f"{seconds:.2f} s"
-
-
-def _summary(d):
-    finite = np.isfinite(d)
-    text = f"max distance {d[finite].max():.6g}" if finite.any() else "no vertex reached"
-    if not finite.all():
-        text += f", {int((~finite).sum())} vertices unreachable (inf)"
-    return text
 
 
 # --------------------------------------------------------------------------- distance
@@ -158,6 +152,22 @@ def _summary(d):
     "array) or .csv (index,distance); unreachable vertices get inf.",
 )
 def run_distance(args):
+    """Run ``heatcore distance``: read the sources and the mesh, solve, write each output; returns 0.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from heatcore.io import demo_mesh_path
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> out = Path(tmp.name) / "d.npy"
+    >>> run_distance(build_parser().parse_args(["distance", str(demo_mesh_path()), "-s", "0", "-o", str(out)]))
+    ... # doctest: +ELLIPSIS
+    wrote .../d.npy
+    0
+    >>> np.load(out)[0], np.load(out).shape
+    (0.0, (2930,))
+    >>> tmp.cleanup()
+    """
     if not args.output and args.png is None:
         raise UsageError("nothing to write: give -o/--output FILE (.ply, .npy, .csv) and/or --png PATH")
     check_output_paths(args.output, args.png, [args.mesh, *(args.sources_file or [])], args.overwrite)
@@ -204,6 +214,19 @@ def run_distance(args):
     "quality and colors) and demo.png (a picture with isolines) into the output folder.",
 )
 def run_demo(args):
+    """Run ``heatcore demo``: distance from spot's nose, written as demo.ply and demo.png; returns 0.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> run_demo(build_parser().parse_args(["demo", "-d", tmp.name, "--refine", "0"]))  # doctest: +ELLIPSIS
+    wrote .../demo.ply  (distance as vertex quality and colors; open it in MeshLab)
+    wrote .../demo.png
+    spot: 2930 vertices, source vertex 1453; precompute ... ms, query ... ms, max distance ...
+    0
+    >>> tmp.cleanup()
+    """
     from ..io.mesh import demo_mesh_path
 
     out_dir = Path(args.output_dir)
@@ -242,6 +265,24 @@ def run_demo(args):
     "vertex quality, vertex colors and the selection kept, ready to open in MeshLab. Needs pymeshlab.",
 )
 def run_meshlab(args):
+    """Run ``heatcore meshlab`` (:func:`heatcore.apps.meshlab.run`) and print its report; returns 0.
+
+    Examples
+    --------
+    >>> import pytest, tempfile
+    >>> _ = pytest.importorskip("pymeshlab")  # the test extra
+    >>> from heatcore.io import demo_mesh_path
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> out = str(Path(tmp.name) / "spot.ply")
+    >>> run_meshlab(build_parser().parse_args(["meshlab", str(demo_mesh_path()), "--sources", "0", "-o", out]))
+    ... # doctest: +ELLIPSIS
+    1 source vertices, 2930 vertices, 5856 faces
+    distance: min 0, max ...
+    time: setup ...
+    wrote .../spot.ply (quality = distance, colours: viridis, selection kept)
+    0
+    >>> tmp.cleanup()
+    """
     from . import meshlab
 
     print(meshlab.format_report(meshlab.run(args), as_json=args.json))
@@ -263,6 +304,19 @@ def run_meshlab(args):
     "Runs on a local process pool, or on a dask.distributed cluster with --scheduler.",
 )
 def run_batch_command(args):
+    """Run ``heatcore batch`` (:func:`heatcore.apps.batch.run_batch`); returns 0, or 1 if a mesh failed.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from heatcore.io import demo_mesh_path
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> argv = ["batch", str(demo_mesh_path()), "-o", tmp.name, "--sources", "0,17", "-j", "0", "-q"]
+    >>> run_batch_command(build_parser().parse_args(argv))  # doctest: +ELLIPSIS
+    wrote .../summary.csv: 1 done, 0 skipped (already done), 0 failed
+    0
+    >>> tmp.cleanup()
+    """
     from .batch import SUMMARY_NAME, parse_sources, run_batch
 
     spec = parse_sources(args.sources, suffix=args.sources_file_suffix, union=args.union)
@@ -283,6 +337,14 @@ def run_batch_command(args):
 
 
 def build_parser():
+    """The ``heatcore`` argument parser: one subparser per :data:`COMMANDS` entry, its ``run`` as default.
+
+    Examples
+    --------
+    >>> args = build_parser().parse_args(["distance", "spot.obj", "-s", "3", "-o", "d.npy"])
+    >>> args.command, args.run is run_distance, args.source
+    ('distance', True, [3])
+    """
     from .. import __version__
 
     parser = _Parser(
@@ -299,20 +361,6 @@ def build_parser():
     return parser
 
 
-class _StderrHandler(logging.Handler):
-    """Writes ``heatcore: message`` to the current ``sys.stderr`` (captured in tests)."""
-
-    def emit(self, record):
-        try:
-            sys.stderr.write(f"heatcore: {self.format(record)}\n")
-        except Exception:  # pragma: no cover - logging must never raise
-            self.handleError(record)
-
-
-def _show_warning(message, category, filename, lineno, file=None, line=None):
-    sys.stderr.write(f"heatcore: warning: {message}\n")
-
-
 def main(argv=None):
     """Run the ``heatcore`` command; returns the exit status.
 
@@ -320,6 +368,25 @@ def main(argv=None):
     ----------
     argv : list of str, optional
         Arguments without the program name (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        0 done, 1 a file is bad (or a mesh of a batch failed), 2 a usage
+        error, 130 interrupted; errors go to stderr as one line.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from heatcore.io import demo_mesh_path
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> out = str(Path(tmp.name) / "d.csv")
+    >>> main(["distance", str(demo_mesh_path()), "-s", "0", "-o", out, "-q"])  # doctest: +ELLIPSIS
+    wrote .../d.csv
+    0
+    >>> main(["distance", str(demo_mesh_path()), "-s", "0", "-o", str(Path(tmp.name) / "d.txt")])
+    2
+    >>> tmp.cleanup()
     """
     parser = build_parser()
     try:

@@ -58,7 +58,19 @@ SOLVER_OPTIONS = ("m", "boundary", "accuracy", "robust", "refine", "weld")
 
 
 def build_parser(prog=None):
-    """The argument parser of :func:`main` (also used by ``heatcore meshlab``)."""
+    """The argument parser of :func:`main` (also used by ``heatcore meshlab``).
+
+    Parameters
+    ----------
+    prog : str, optional
+        The program name in usage and error lines.
+
+    Examples
+    --------
+    >>> args = build_parser("heatcore_meshlab.py").parse_args(["scan.ply", "--select", "(y > 0.9)"])
+    >>> args.select, args.output, args.colormap
+    ('(y > 0.9)', None, 'viridis')
+    """
     parser = argparse.ArgumentParser(
         prog=prog,
         description=(
@@ -73,7 +85,23 @@ def build_parser(prog=None):
 
 
 def add_arguments(parser):
-    """Add this command's arguments to an argparse parser (for a ``heatcore meshlab`` subcommand)."""
+    """Add this command's arguments to an argparse parser (for a ``heatcore meshlab`` subcommand).
+
+    The solver and colour options come from :mod:`heatcore.options`
+    (MeshLab's ramps and ``none`` added to the colormaps).
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        ``parser``.
+
+    Examples
+    --------
+    >>> p = add_arguments(argparse.ArgumentParser(prog="meshlab"))
+    >>> args = p.parse_args(["scan.obj", "--sources", "0", "17", "--colormap", "meshlab-turbo"])
+    >>> args.sources, args.colormap, args.ascii
+    ([0, 17], 'meshlab-turbo', False)
+    """
     parser.add_argument("input", help="mesh file (PLY, OBJ, OFF, STL, ... anything pymeshlab reads)")
     parser.add_argument("-o", "--output", help="output PLY (default: INPUT stem + '_distance.ply')")
     src = parser.add_mutually_exclusive_group()
@@ -100,7 +128,36 @@ def add_arguments(parser):
 
 
 def run(args):
-    """Run the command for parsed arguments; returns the statistics (raises heatcore errors)."""
+    """Run the command for parsed arguments; returns the statistics (raises heatcore errors).
+
+    Loads the input with pymeshlab, selects the sources (``--sources``,
+    ``--select``, or the file's saved selection), runs
+    :func:`geodesic_distance_from_selection` and writes the PLY atomically.
+
+    Returns
+    -------
+    dict
+        The statistics of :func:`geodesic_distance_from_selection`, with ``output``.
+
+    Raises
+    ------
+    heatcore.errors.HeatcoreError
+        No pymeshlab; :class:`~heatcore.errors.InvalidMeshError` (unreadable
+        input), :class:`~heatcore.errors.InvalidOptionError` (output not a new
+        ``.ply``), :class:`~heatcore.errors.InvalidSourceError` (no source).
+
+    Examples
+    --------
+    >>> import pytest, tempfile
+    >>> _ = pytest.importorskip("pymeshlab")  # the test extra
+    >>> from heatcore.io import demo_mesh_path
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> out = Path(tmp.name) / "spot.ply"
+    >>> stats = run(build_parser().parse_args([str(demo_mesh_path()), "--sources", "0", "-o", str(out)]))
+    >>> stats["sources"], stats["vertices"], stats["unreachable"], stats["output"] == str(out), out.is_file()
+    (1, 2930, 0, True, True)
+    >>> tmp.cleanup()
+    """
     try:
         import pymeshlab
     except ImportError as exc:
@@ -157,6 +214,13 @@ def check_condition(condition):
     The check runs in a child process: in pymeshlab 2025.7 a condition that
     fails to parse corrupts the process's memory (a later ``load_new_mesh``
     crashes with ``std::bad_alloc`` or a segmentation fault).
+
+    Examples
+    --------
+    >>> import pytest
+    >>> _ = pytest.importorskip("pymeshlab")  # the test extra
+    >>> check_condition("vi == 0"), check_condition("vi === 1")  # doctest: +ELLIPSIS
+    ('', '...Unexpected operator "=" found at position 5')
     """
     import subprocess
 
@@ -219,7 +283,21 @@ def main(argv=None, prog=None):
 
     Examples
     --------
-    ``main(["mesh.ply", "-o", "mesh_distance.ply"])`` returns 0 after writing the PLY.
+    >>> import pytest, tempfile
+    >>> _ = pytest.importorskip("pymeshlab")  # the test extra
+    >>> from heatcore.io import demo_mesh_path
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> out = str(Path(tmp.name) / "spot_distance.ply")
+    >>> main([str(demo_mesh_path()), "--sources", "0", "-o", out, "--json"])  # doctest: +ELLIPSIS
+    {
+      "sources": 1,
+      "source_kind": "vertices",
+      "vertices": 2930,
+    ...
+    0
+    >>> main([str(Path(tmp.name) / "missing.ply")])  # the error goes to stderr
+    2
+    >>> tmp.cleanup()
     """
     parser = build_parser(prog)
     try:
@@ -236,7 +314,27 @@ def main(argv=None, prog=None):
 
 
 def format_report(stats, as_json=False):
-    """The command's printed report: a summary, or the statistics as JSON."""
+    """The command's printed report: a summary, or the statistics as JSON.
+
+    Parameters
+    ----------
+    stats : dict
+        What :func:`run` returns (the distance array and the solver are left out of the JSON).
+    as_json : bool, default False
+
+    Examples
+    --------
+    >>> stats = {"sources": 1, "source_kind": "vertices", "vertices": 3, "faces": 1, "min": 0.0, "max": 1.0,
+    ...          "mean": 0.6667, "unreachable": 0, "colormap": "viridis", "output": "tri_distance.ply",
+    ...          "seconds": {"setup": 0.002, "distance": 0.0001, "write": 0.001}, "distance": np.zeros(3)}
+    >>> print(format_report(stats))
+    1 source vertices, 3 vertices, 1 faces
+    distance: min 0, max 1, mean 0.6667
+    time: setup 0.002 s, distance 0.000 s, write 0.001 s
+    wrote tri_distance.ply (quality = distance, colours: viridis, selection kept)
+    >>> json.loads(format_report(stats, as_json=True))["max"]
+    1.0
+    """
     if as_json:
         return json.dumps({k: v for k, v in stats.items() if k not in ("distance", "solver")}, indent=2)
     return _summary(stats)

@@ -145,6 +145,29 @@ def geodesic_distance_from_selection(
         An option is out of range, or ``solver`` belongs to another mesh.
     InvalidMeshError
         The current mesh has no faces.
+
+    Examples
+    --------
+    An octahedron with its vertex 0 selected; the distance lands in the vertex quality:
+
+    >>> import pytest
+    >>> pymeshlab = pytest.importorskip("pymeshlab")  # the test extra
+    >>> V = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], float)
+    >>> F = np.array([[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]])
+    >>> ms = pymeshlab.MeshSet()
+    >>> ms.add_mesh(pymeshlab.Mesh(V, F.astype(np.int32)))
+    >>> ms.compute_selection_by_condition_per_vertex(condselect="vi == 0")
+    >>> stats = geodesic_distance_from_selection(ms, refine=3)
+    >>> stats["source_kind"], stats["sources"], stats["reached"]
+    ('vertices', 1, 6)
+    >>> ms.current_mesh().vertex_scalar_array().round(2)
+    array([0.  , 2.49, 1.34, 1.34, 1.34, 1.34])
+
+    Again with other colours, skipping the setup:
+
+    >>> again = geodesic_distance_from_selection(ms, refine=3, colormap="meshlab-turbo", solver=stats["solver"])
+    >>> again["solver"] is stats["solver"], np.array_equal(again["distance"], stats["distance"])
+    (True, True)
     """
     start = time.perf_counter()
     mesh_kw = {"robust": robust, "refine": refine, "weld": weld}
