@@ -15,11 +15,13 @@ contradicts itself, :class:`CliError` (exit status 1) for the file system.
 Examples
 --------
 >>> import tempfile, pathlib, numpy as np
->>> path = pathlib.Path(tempfile.mkdtemp()) / "d.npy"
+>>> folder = tempfile.TemporaryDirectory()
+>>> path = pathlib.Path(folder.name) / "d.npy"
 >>> with atomic_output(path) as tmp:
 ...     np.save(tmp, np.arange(3.0))
 >>> np.load(path).tolist(), sorted(p.name for p in path.parent.iterdir())
 ([0.0, 1.0, 2.0], ['d.npy'])
+>>> folder.cleanup()
 """
 
 import contextlib
@@ -81,7 +83,8 @@ def atomic_output(path):
     Examples
     --------
     >>> import tempfile, pathlib
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "note.txt"
+    >>> folder = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(folder.name) / "note.txt"
     >>> _ = path.write_text("old")
     >>> try:
     ...     with atomic_output(path) as tmp:
@@ -91,6 +94,7 @@ def atomic_output(path):
     ...     pass
     >>> path.read_text(), len(list(path.parent.iterdir()))
     ('old', 1)
+    >>> folder.cleanup()
     """
     path = Path(path)
     tmp = path.with_name(f".{path.stem}.tmp-{secrets.token_hex(4)}{path.suffix}")

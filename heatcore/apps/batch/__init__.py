@@ -69,10 +69,12 @@ Examples
 --------
 >>> import tempfile
 >>> from heatcore.io import demo_mesh_path
->>> out = tempfile.mkdtemp()
+>>> tmp = tempfile.TemporaryDirectory()
+>>> out = tmp.name
 >>> rows = run_batch([demo_mesh_path()], out, "0,17", workers=0, progress=False)
 >>> rows[0]["status"], load_distances(output_path(out, demo_mesh_path())).shape
 ('ok', (2, 2930))
+>>> tmp.cleanup()
 """
 
 from .keys import file_digest, option_defaults  # noqa: F401 - re-exported

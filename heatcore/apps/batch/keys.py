@@ -33,10 +33,12 @@ def file_digest(path, chunk=1 << 20):
     Examples
     --------
     >>> import tempfile
-    >>> p = Path(tempfile.mkdtemp()) / "f"
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> p = Path(tmp.name) / "f"
     >>> _ = p.write_bytes(b"abc")
     >>> file_digest(p)[:16]
     'ba7816bf8f01cfea'
+    >>> tmp.cleanup()
     """
     h = hashlib.sha256()
     with open(path, "rb") as fh:

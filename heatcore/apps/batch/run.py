@@ -12,10 +12,12 @@ Examples
 >>> import tempfile
 >>> from heatcore.io import demo_mesh_path
 >>> from heatcore.apps.batch import load_distances, output_path
->>> out = tempfile.mkdtemp()
+>>> tmp = tempfile.TemporaryDirectory()
+>>> out = tmp.name
 >>> rows = run_batch([demo_mesh_path()], out, "0,17", workers=0, progress=False)
 >>> rows[0]["status"], load_distances(output_path(out, demo_mesh_path())).shape
 ('ok', (2, 2930))
+>>> tmp.cleanup()
 """
 
 import logging

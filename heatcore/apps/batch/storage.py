@@ -98,10 +98,12 @@ def save_atomic(path, save):
     Examples
     --------
     >>> import tempfile
-    >>> target = Path(tempfile.mkdtemp()) / "x.bin"
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> target = Path(tmp.name) / "x.bin"
     >>> save_atomic(target, lambda fh: fh.write(b"abc"))
     >>> target.read_bytes()
     b'abc'
+    >>> tmp.cleanup()
     """
     tmp = temporary_path(path)
     try:
@@ -129,13 +131,15 @@ def clean_temporaries(folder, max_age=STALE_TEMPORARY_SECONDS):
     Examples
     --------
     >>> import subprocess, sys, tempfile
-    >>> folder = Path(tempfile.mkdtemp())
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> folder = Path(tmp.name)
     >>> dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
     ...                       capture_output=True, text=True).stdout.strip()
     >>> _ = (folder / f".a.npz.tmp-{dead}-abcdef12").write_bytes(b"partial")
     >>> _ = (folder / f".b.npz.tmp-{os.getpid()}-abcdef12").write_bytes(b"being written")
     >>> [p.name for p in clean_temporaries(folder)] == [f".a.npz.tmp-{dead}-abcdef12"]
     True
+    >>> tmp.cleanup()
     """
     folder = Path(folder)
     if not folder.is_dir():
@@ -359,10 +363,12 @@ def write_summary(path, rows):
     Examples
     --------
     >>> import tempfile
-    >>> p = Path(tempfile.mkdtemp()) / SUMMARY_NAME
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> p = Path(tmp.name) / SUMMARY_NAME
     >>> write_summary(p, [{"file": "a.obj", "status": "ok"}])
     >>> p.read_text().splitlines()[1]
     'a.obj,,,,ok,'
+    >>> tmp.cleanup()
     """
     text = io.StringIO()
     writer = csv.DictWriter(text, fieldnames=SUMMARY_FIELDS, lineterminator="\n")
