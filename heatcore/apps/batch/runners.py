@@ -84,7 +84,12 @@ def watch_parent(parent_pid, interval=WATCHDOG_INTERVAL):
     """Start a daemon thread that ends this process (``os._exit``) once ``parent_pid`` is gone.
 
     ``parent_pid`` is the process that owns the work: our parent process, or
-    (started by a fork server) the process that asked for us.
+    (started by a fork server) the process that asked for us. Our own parent
+    is watched through ``os.getppid()`` (it changes once the parent died);
+    another process, and any on Windows, through
+    :func:`heatcore.apps.batch.processes.pid_alive`. This thread is the only
+    way a pool worker follows its parent (no ``prctl(PR_SET_PDEATHSIG)``: that
+    needs ``ctypes``, which only :mod:`heatcore.linalg` imports).
 
     Returns
     -------
