@@ -288,3 +288,14 @@ def test_blender_properties_are_the_declared_ones(blender_properties):
             assert kw.get("max") == opt.high and kw.get("soft_max") == opt.soft_max, name
     assert set(blender_properties.SOLVER_OPTIONS) <= set(declared)
     assert all(OPTIONS[n].target in ("mesh", "solver") for n in blender_properties.SOLVER_OPTIONS)
+
+
+@pytest.mark.parametrize(("where", "options"), [("solver_options", {"m": -1}), ("mesh_options", {"refine": 9})])
+def test_batch_checks_its_options_before_any_work(tmp_path, where, options):
+    from heatcore.apps.batch import run_batch
+    from heatcore.io import demo_mesh_path
+
+    out = tmp_path / "out"
+    with pytest.raises(hc.InvalidOptionError, match=next(iter(options))):
+        run_batch([demo_mesh_path()], out, "0", workers=0, progress=False, **{where: options})
+    assert not out.exists()

@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...options import check_all
 from .keys import key_digest, result_key
 from .runners import run_dask, run_pool
 from .spec import (
@@ -167,6 +168,8 @@ def run_batch(inputs, output_dir, sources=None, *, sources_suffix=None, union=Fa
         raise BatchError(f"max memory must be a positive number of MB, got {max_memory_mb!r}")
     if workers is not None and (not isinstance(workers, int) or workers < 0):
         raise BatchError(f"workers must be a non-negative integer, got {workers!r}")
+    # every option checked by heatcore.options before any work (as the command line's are)
+    mesh_options, solver_options = check_all(dict(mesh_options or {})), check_all(dict(solver_options or {}))
     paths = find_inputs(inputs)
     output_dir = Path(output_dir)
     try:
@@ -174,7 +177,6 @@ def run_batch(inputs, output_dir, sources=None, *, sources_suffix=None, union=Fa
     except OSError as exc:
         raise BatchError(f"cannot create output folder {output_dir}: {exc.strerror or exc}") from exc
     clean_temporaries(output_dir)  # partial files of a killed run
-    mesh_options, solver_options = dict(mesh_options or {}), dict(solver_options or {})
     keys = {}
 
     def key_of(path):  # None when the file cannot be read (its task says why)
