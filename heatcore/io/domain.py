@@ -113,11 +113,13 @@ def read_domain(path, kind="auto"):
     Examples
     --------
     >>> import tempfile, pathlib
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "three.xyz"
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(tmp.name) / "three.xyz"
     >>> _ = path.write_text("0 0 0\\n1 0 0\\n0 1 0\\n")
     >>> f = read_domain(path)
     >>> f.kind, f.vertices.shape, f.surface
     ('points', (3, 3), None)
+    >>> tmp.cleanup()
     """
     kind = check("domain", kind)
     from .mesh import check_not_empty

@@ -142,11 +142,13 @@ def read_mesh(path):
     Examples
     --------
     >>> import tempfile, pathlib
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "tri.obj"
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(tmp.name) / "tri.obj"
     >>> _ = path.write_text("v 0 0 0\\nv 1 0 0\\nv 0 1 0\\nf 1 2 3\\n")
     >>> mesh = read_mesh(path)
     >>> mesh.vertices.shape, mesh.faces.tolist()
     ((3, 3), [[0, 1, 2]])
+    >>> tmp.cleanup()
     """
     path = Path(path)
     check_not_empty(path)
@@ -243,12 +245,14 @@ def write_ply(path, V, F, quality, colors, selection=None):
     Examples
     --------
     >>> import tempfile, pathlib
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "d.ply"
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(tmp.name) / "d.ply"
     >>> V, F = np.eye(3), np.array([[0, 1, 2]])
     >>> write_ply(path, V, F, [0.0, 1.0, 1.0], np.zeros((3, 3)), selection=[0])
     >>> mesh = read_mesh(path)
     >>> mesh.vertex_data["quality"].tolist(), mesh.selected_vertices().tolist()
     ([0.0, 1.0, 1.0], [0])
+    >>> tmp.cleanup()
     """
     import meshio
 

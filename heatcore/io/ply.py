@@ -11,7 +11,8 @@ PLY parsing it takes live here: the header, then each element in order
 Examples
 --------
 >>> import tempfile, pathlib
->>> path = pathlib.Path(tempfile.mkdtemp()) / "strip.ply"
+>>> tmp = tempfile.TemporaryDirectory()
+>>> path = pathlib.Path(tmp.name) / "strip.ply"
 >>> _ = path.write_text(
 ...     "ply\\nformat ascii 1.0\\nelement vertex 4\\nproperty float x\\nproperty float y\\n"
 ...     "property float z\\nelement tristrips 1\\nproperty list int int vertex_indices\\nend_header\\n"
@@ -19,6 +20,7 @@ Examples
 >>> V, F, data = read_tristrips(path)
 >>> V.shape, F.tolist()
 ((4, 3), [[0, 1, 2], [2, 1, 3]])
+>>> tmp.cleanup()
 """
 
 from pathlib import Path
@@ -107,10 +109,12 @@ def read_header(path):
     Examples
     --------
     >>> import tempfile, pathlib
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "h.ply"
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(tmp.name) / "h.ply"
     >>> _ = path.write_text("ply\\nformat ascii 1.0\\nelement vertex 0\\nproperty float x\\nend_header\\n")
     >>> read_header(path).counts()
     {'vertex': 0}
+    >>> tmp.cleanup()
     """
     path = Path(path)
     with open(path, "rb") as f:
@@ -176,13 +180,15 @@ def read_elements(path, header=None):
     Examples
     --------
     >>> import tempfile, pathlib
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "e.ply"
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(tmp.name) / "e.ply"
     >>> _ = path.write_text("ply\\nformat ascii 1.0\\nelement vertex 2\\nproperty float x\\n"
     ...                     "element face 1\\nproperty list uchar int vertex_indices\\nend_header\\n"
     ...                     "0.5\\n2\\n3 0 1 1\\n")
     >>> elements = read_elements(path)
     >>> elements["vertex"]["x"].tolist(), [row.tolist() for row in elements["face"]["vertex_indices"]]
     ([0.5, 2.0], [[0, 1, 1]])
+    >>> tmp.cleanup()
     """
     path = Path(path)
     header = header or read_header(path)
@@ -314,7 +320,8 @@ def read_tristrips(path, header=None):
     Examples
     --------
     >>> import tempfile, pathlib
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "strip.ply"
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(tmp.name) / "strip.ply"
     >>> _ = path.write_text(
     ...     "ply\\nformat ascii 1.0\\nelement vertex 4\\nproperty float x\\nproperty float y\\n"
     ...     "property float z\\nelement tristrips 1\\nproperty list int int vertex_indices\\nend_header\\n"
@@ -322,6 +329,7 @@ def read_tristrips(path, header=None):
     >>> V, F, data = read_tristrips(path)
     >>> V.shape, F.tolist(), data
     ((4, 3), [[0, 1, 2], [2, 1, 3]], {})
+    >>> tmp.cleanup()
     """
     path = Path(path)
     elements = read_elements(path, header)

@@ -7,10 +7,12 @@ Faces in the file, if any, are ignored: only the vertices are read.
 Examples
 --------
 >>> import tempfile, pathlib, numpy as np
->>> path = pathlib.Path(tempfile.mkdtemp()) / "cloud.xyz"
+>>> tmp = tempfile.TemporaryDirectory()
+>>> path = pathlib.Path(tmp.name) / "cloud.xyz"
 >>> _ = path.write_text("0 0 0\\n1 0 0\\n0 1 0\\n")
 >>> read_point_cloud(path).points.shape
 (3, 3)
+>>> tmp.cleanup()
 """
 
 from dataclasses import dataclass

@@ -18,11 +18,13 @@ Examples
 --------
 >>> import tempfile, pathlib, meshio, numpy as np
 >>> V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0.5, 0]], float)
->>> path = pathlib.Path(tempfile.mkdtemp()) / "two.ply"
+>>> tmp = tempfile.TemporaryDirectory()
+>>> path = pathlib.Path(tmp.name) / "two.ply"
 >>> meshio.write(str(path), meshio.Mesh(V, [("quad", [[0, 1, 2, 3]]), ("triangle", [[1, 4, 2]])]))
 >>> mesh = read_polygon_mesh(path)
 >>> mesh.vertices.shape, mesh.polygon_sizes.tolist()
 ((5, 3), [4, 3])
+>>> tmp.cleanup()
 """
 
 import contextlib
@@ -92,10 +94,12 @@ def read_polygon_mesh(path):
     Examples
     --------
     >>> import tempfile, pathlib
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "quad.off"
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(tmp.name) / "quad.off"
     >>> _ = path.write_text("OFF\\n4 1 0\\n0 0 0\\n1 0 0\\n1 1 0\\n0 1 0\\n4 0 1 2 3\\n")
     >>> read_polygon_mesh(path).polygon_sizes.tolist()
     [4]
+    >>> tmp.cleanup()
     """
     path = Path(path)
     if not path.is_file():

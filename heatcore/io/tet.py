@@ -10,11 +10,13 @@ Examples
 --------
 >>> import numpy as np, tempfile, os
 >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
->>> path = os.path.join(tempfile.mkdtemp(), "tet.vtu")
+>>> tmp = tempfile.TemporaryDirectory()
+>>> path = os.path.join(tmp.name, "tet.vtu")
 >>> write_tet_distance(path, V, [[0, 1, 2, 3]], [0.0, 1.0, 1.0, 1.0])
 >>> V2, T2 = read_tet_mesh(path)
 >>> V2.shape, T2.tolist()
 ((4, 3), [[0, 1, 2, 3]])
+>>> tmp.cleanup()
 """
 
 import contextlib
@@ -60,11 +62,13 @@ def read_tet_mesh(path):
     --------
     >>> import os, tempfile, numpy as np, scipy.spatial
     >>> P = np.random.default_rng(0).random((30, 3))
-    >>> path = os.path.join(tempfile.mkdtemp(), "part.vtu")
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = os.path.join(tmp.name, "part.vtu")
     >>> write_tet_distance(path, P, scipy.spatial.Delaunay(P).simplices, np.zeros(30))
     >>> V, T = read_tet_mesh(path)
     >>> V.shape, T.shape[1]
     ((30, 3), 4)
+    >>> tmp.cleanup()
     """
     import meshio
 
@@ -128,7 +132,9 @@ def write_tet_distance(path, V, T, distance, *, unreachable=np.nan):
     >>> V = np.random.default_rng(0).random((40, 3))
     >>> T = scipy.spatial.Delaunay(V).simplices
     >>> d = hc.HeatSolver(hc.TetMesh(V, T)).distance([0])
-    >>> write_tet_distance(os.path.join(tempfile.mkdtemp(), "out.vtu"), V, T, d)
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> write_tet_distance(os.path.join(tmp.name, "out.vtu"), V, T, d)
+    >>> tmp.cleanup()
     """
     import meshio
 

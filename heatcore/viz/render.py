@@ -14,10 +14,12 @@ Examples
 >>> import numpy as np, tempfile, os
 >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
 >>> F = np.array([[0, 1, 2], [1, 3, 2]])
->>> path = os.path.join(tempfile.mkdtemp(), "d.png")
+>>> tmp = tempfile.TemporaryDirectory()
+>>> path = os.path.join(tmp.name, "d.png")
 >>> render_distance(path, V, F, np.linalg.norm(V, axis=1), sources=[0], isolines=4)
 >>> os.path.getsize(path) > 0
 True
+>>> tmp.cleanup()
 """
 
 import numpy as np
@@ -190,10 +192,12 @@ def render_distance(
     --------
     >>> import tempfile, os
     >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
-    >>> path = os.path.join(tempfile.mkdtemp(), "tiny.png")
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = os.path.join(tmp.name, "tiny.png")
     >>> render_distance(path, V, [[0, 1, 2]], [0.0, 1.0, 1.0], isolines=0, size=(1, 1), dpi=20)
     >>> os.path.getsize(path) > 0
     True
+    >>> tmp.cleanup()
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.cm import ScalarMappable
