@@ -66,7 +66,7 @@ LAYERS = [
                    "heatcore.operators", "heatcore.parts", "heatcore.pointcloud", "heatcore.polygon",
                    "heatcore.polygon_shape", "heatcore.refine", "heatcore.sources", "heatcore.tet",
                    "heatcore.triangle", "heatcore.validate", "heatcore.weld"])]),
-    ("solver", [("solver", "the heat method, the eikonal pass, reference distances",
+    ("solver", [("solver", "the heat method and its steps, the eikonal pass, reference distances",
                  ["heatcore.heat", "heatcore.heat.*", "heatcore.steps", "heatcore.steps.*", "heatcore.eikonal",
                   "heatcore.eikonal.*", "heatcore.reference"])]),
     ("io | viz", [("io", "reading and writing files; raises core errors",
