@@ -6,18 +6,7 @@ sends one task per mesh (:func:`heatcore.apps.batch.task.process_mesh`) to a
 runner (:mod:`heatcore.apps.batch.runners`: this process, a local process
 pool or a Dask cluster), shows progress on one stderr line and writes
 ``summary.csv`` (also after Ctrl-C, listing exactly what is on disk).
-
-Examples
---------
->>> import tempfile
->>> from heatcore.io import demo_mesh_path
->>> from heatcore.apps.batch import load_distances, output_path
->>> tmp = tempfile.TemporaryDirectory()
->>> out = tmp.name
->>> rows = run_batch([demo_mesh_path()], out, "0,17", workers=0, progress=False)
->>> rows[0]["status"], load_distances(output_path(out, demo_mesh_path())).shape
-('ok', (2, 2930))
->>> tmp.cleanup()
+An example runs in :func:`run_batch`'s docstring.
 """
 
 import logging
