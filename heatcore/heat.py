@@ -375,7 +375,7 @@ class HeatSolver:
         return u
 
     def unit_field(self, u):
-        """``-grad u / |grad u|`` per element, 0 where the gradient vanishes or is not finite (see :mod:`heatcore.unit_field`)."""
+        """``-grad u / |grad u|`` per element, 0 where the gradient vanishes or is not finite (see :mod:`heatcore.steps.unit_field`)."""
         return unit_field(self.ops, u, 1.0, self._element_h)
 
     def _factor_heat(self, backend):
