@@ -22,6 +22,7 @@ from ._heatcore import colormap as colormaps
 from ._heatcore import heatcore
 from .adapters import AddonError
 from .cache import SOLVERS
+from .shape import measured_positions
 
 #: ``heatcore.options``: every option's name, range, default and help (the bundled copy's).
 options = importlib.import_module(heatcore.__name__ + ".options")
@@ -53,6 +54,9 @@ class GeodesicResult:
         Time spent building the solver (0 when it came from the cache).
     cached : bool
         Whether the prefactored solver was reused.
+    skipped_modifiers : list of str
+        Modifiers left out because they change the vertices (``shape="EVALUATED"``):
+        the distance is measured on the deformed cage of the mesh's own vertices.
     """
 
     distance: np.ndarray
@@ -62,6 +66,7 @@ class GeodesicResult:
     seconds: float
     solver_seconds: float
     cached: bool
+    skipped_modifiers: list
 
 
 def _no_progress(fraction, message):
@@ -123,6 +128,8 @@ def compute_geodesic_distance(
     isolines=0,
     normalize=False,
     weight_group=None,
+    space="WORLD",
+    shape="EVALUATED",
     progress=None,
     **solver_options,
 ):
@@ -135,7 +142,8 @@ def compute_geodesic_distance(
     Parameters
     ----------
     obj : bpy.types.Object
-        A mesh object. Distances are measured in its local coordinates.
+        A mesh object. Distances are measured on the shape on screen (see
+        ``space`` and ``shape``) and written to the mesh's own vertices.
     sources : sequence of int, optional
         Source vertex indices. Default: the vertex group ``vertex_group`` if
         given, else the selected vertices.
@@ -156,6 +164,14 @@ def compute_geodesic_distance(
     weight_group : str, optional
         Also write the normalized distance (0 at the sources, 1 farthest) as
         weights of this vertex group, for modifiers.
+    space : {"WORLD", "LOCAL"}
+        "WORLD": in scene units, with the object's scale, rotation and
+        parents applied; "LOCAL": in the object's own coordinates.
+    shape : {"EVALUATED", "BASIS"}
+        "EVALUATED": shape keys mixed as shown and deform modifiers applied
+        (modifiers that change the vertices, such as Subdivision or Mirror,
+        are left out, with a warning naming them); "BASIS": the mesh data as
+        stored. ``space="LOCAL", shape="BASIS"`` measures the mesh data alone.
     progress : callable, optional
         ``progress(fraction, message)`` called between stages.
     **solver_options
@@ -196,7 +212,11 @@ def compute_geodesic_distance(
     progress(0.05, "reading mesh")
     if obj.mode == "EDIT":
         obj.update_from_editmode()
-    V, F = adapters.mesh_arrays(mesh)
+    _, F = adapters.mesh_arrays(mesh)
+    V, skipped = measured_positions(obj, space, shape)
+    if skipped:
+        warnings.warn(f"{obj.name}: distance measured without the modifiers that change its vertices "
+                      f"({', '.join(skipped)}), on the deformed cage of its own vertices", stacklevel=2)
     if len(V) == 0:
         raise AddonError(f"mesh {mesh.name!r} has no vertices")
     src = resolve_sources(obj, sources, vertex_group)
@@ -245,4 +265,5 @@ def compute_geodesic_distance(
         seconds=time.perf_counter() - start,
         solver_seconds=solver_seconds,
         cached=cached,
+        skipped_modifiers=skipped,
     )

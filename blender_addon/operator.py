@@ -83,6 +83,9 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
         stats.solver_seconds = result.solver_seconds
         stats.cached = result.cached
         show_color_attribute(context)
+        if result.skipped_modifiers:
+            self.report({"WARNING"}, f"Measured without {', '.join(result.skipped_modifiers)}: these modifiers change "
+                                     "the vertices, so the distance is on the deformed cage of the mesh's own vertices")
         how = "cached solver" if result.cached else f"solver built in {result.solver_seconds:.2f} s"
         self.report(
             {"INFO"},

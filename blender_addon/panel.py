@@ -29,6 +29,10 @@ class VIEW3D_PT_heat_geodesic(bpy.types.Panel):
             else:
                 col.prop(settings, "vertex_group", text="Group")
 
+        col = layout.column(heading="Measure")
+        col.prop(settings, "space")
+        col.prop(settings, "shape")
+
         col = layout.column(heading="Solver")
         col.prop(settings, "m")
         col.prop(settings, "boundary")

@@ -19,6 +19,16 @@ HEATCORE_OPTIONS = ("m", "boundary", "accuracy", "robust", "colormap", "isolines
 #: Of those, the ones passed to heatcore's domain and solver.
 SOLVER_OPTIONS = ("m", "boundary", "accuracy", "robust")
 
+SPACE_ITEMS = [
+    ("WORLD", "World", "Measure in scene units: the object's scale, rotation and parents applied"),
+    ("LOCAL", "Local", "Measure in the object's own coordinates"),
+]
+SHAPE_ITEMS = [
+    ("EVALUATED", "As Displayed", "Shape keys and deform modifiers applied (modifiers that change the vertices are "
+                                  "left out, with a warning)"),
+    ("BASIS", "Mesh Data", "The mesh as stored, without shape keys or modifiers"),
+]
+
 SOURCE_ITEMS = [
     ("SELECTED", "Selected Vertices", "Use the selected vertices as sources"),
     ("VERTEX_GROUP", "Vertex Group", "Use the members of a vertex group as sources"),
@@ -73,6 +83,8 @@ class GeodesicOptions:
         default=False,
     )
     weight_group: StringProperty(name="Weight Group", default=DEFAULT_ATTRIBUTE)
+    space: EnumProperty(name="Space", items=SPACE_ITEMS, default="WORLD")
+    shape: EnumProperty(name="Shape", items=SHAPE_ITEMS, default="EVALUATED")
 
     def call_options(self):
         """Keyword arguments of :func:`compute_geodesic_distance` for these options."""
@@ -84,6 +96,8 @@ class GeodesicOptions:
             isolines=self.isolines,
             normalize=self.normalize,
             weight_group=self.weight_group if self.write_weights else None,
+            space=self.space,
+            shape=self.shape,
             **self.solver_options(),
         )
 

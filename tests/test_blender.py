@@ -470,3 +470,72 @@ def test_extension_zip_installs_and_runs(tmp_path):
     if platform == "linux-x64":  # both: the Poisson factor was ordered by METIS inside Blender
         assert out["nested_dissection_used"]
 
+
+
+# ------------------------------------------ the shape the user sees (issue 18, first step)
+
+
+def _api(addon, obj, **options):
+    return addon.compute_geodesic_distance(obj, color_attribute=None, **options)
+
+
+def test_world_space_measures_the_scaled_object(addon):
+    obj = ico_sphere(subdivisions=5, radius=1.0)
+    obj.scale = (1.0, 1.0, 3.0)  # an ellipsoid on screen
+    bpy.context.view_layer.update()
+    V = coords(obj.data)
+    pole = int(np.argmax(V[:, 2]))
+    equator = np.flatnonzero(np.abs(V[:, 2]) < 1e-6)
+    world = V * [1.0, 1.0, 3.0]
+    d = _api(addon, obj, sources=[pole]).distance
+    np.testing.assert_allclose(d, hc.geodesic_distance(world, loop_triangles(obj.data), [pole]), rtol=1e-9)
+    quarter_meridian = np.pi * (3 * (3 + 1) - np.sqrt((3 * 3 + 1) * (3 + 3 * 1))) / 4  # Ramanujan: 3.3412
+    assert abs(np.mean(d[equator]) - quarter_meridian) < 0.02 * quarter_meridian  # measured 1.2% short (3.302)
+    local = _api(addon, obj, sources=[pole], space="LOCAL").distance
+    assert abs(np.mean(local[equator]) - np.pi / 2) < 0.02 * np.pi / 2  # today's answer, on request
+
+
+def test_shape_keys_are_measured_as_displayed(addon):
+    obj = ico_sphere(subdivisions=4, radius=1.0)
+    obj.shape_key_add(name="Basis")
+    tall = obj.shape_key_add(name="Tall")
+    co = coords(obj.data) * [1.0, 1.0, 2.0]
+    tall.data.foreach_set("co", co.astype(np.float32).ravel())
+    tall.value = 1.0
+    bpy.context.view_layer.update()
+    pole = int(np.argmax(co[:, 2]))
+    d = _api(addon, obj, sources=[pole]).distance
+    np.testing.assert_allclose(d, hc.geodesic_distance(co, loop_triangles(obj.data), [pole]), rtol=1e-6)
+    basis = _api(addon, obj, sources=[pole], shape="BASIS").distance
+    np.testing.assert_allclose(basis, reference(obj, [pole]), rtol=1e-9)
+    assert d.max() > 1.4 * basis.max()  # the tall shape is longer from pole to pole
+
+
+def test_deform_modifiers_are_applied_and_topology_changing_ones_skipped_with_a_warning(addon):
+    obj = ico_sphere(subdivisions=4, radius=1.0)
+    cast = obj.modifiers.new("Squash", "SIMPLE_DEFORM")
+    cast.deform_method, cast.deform_axis, cast.factor = "STRETCH", "Z", 1.0  # z 1.5x, x and y shrunk
+    subsurf = obj.modifiers.new("Subdivision", "SUBSURF")
+    bpy.context.view_layer.update()
+    cage = addon.shape.measured_positions(obj, "LOCAL", "EVALUATED")
+    assert cage[1] == ["Subdivision"] and subsurf.show_viewport  # switched back on
+    deformed = cage[0]
+    assert len(deformed) == len(obj.data.vertices) and np.ptp(deformed[:, 2]) > 1.4 * np.ptp(coords(obj.data)[:, 2])
+    pole = int(np.argmax(deformed[:, 2]))
+    with pytest.warns(UserWarning, match="Subdivision"):
+        result = _api(addon, obj, sources=[pole], space="LOCAL")
+    assert result.skipped_modifiers == ["Subdivision"]
+    np.testing.assert_allclose(result.distance, hc.geodesic_distance(deformed, loop_triangles(obj.data), [pole]),
+                               rtol=1e-9)
+    assert len(obj.modifiers) == 2 and obj.modifiers["Subdivision"].show_viewport
+
+
+def test_local_basis_is_the_mesh_data_alone(addon):
+    obj = ico_sphere(subdivisions=3, radius=2.0)
+    obj.scale = (2.0, 1.0, 1.0)
+    obj.modifiers.new("Wave", "WAVE")
+    bpy.context.view_layer.update()
+    d = _api(addon, obj, sources=[0], space="LOCAL", shape="BASIS").distance
+    np.testing.assert_allclose(d, reference(obj, [0]), rtol=1e-9)
+    with pytest.raises(addon.AddonError, match="space must be one of WORLD, LOCAL"):
+        _api(addon, obj, sources=[0], space="SCREEN")

@@ -1,0 +1,111 @@
+"""Which shape is measured: the one on screen (world space, shape keys and modifiers) or the basis mesh.
+
+``shape="EVALUATED"`` reads the vertex positions Blender displays: shape keys
+mixed as shown and deform modifiers (Displace, Cast, Lattice, Armature,
+Smooth, ...) applied. Modifiers that change the topology (Subdivision,
+Mirror, Array, Boolean, ...) are switched off for the reading and named in a
+warning: the distance is measured on the deformed cage of the mesh's own
+vertices, which is where it is written. ``shape="BASIS"`` reads the mesh data
+as stored. ``space="WORLD"`` applies the object's world matrix (scale,
+rotation, parents), ``"LOCAL"`` measures in object coordinates.
+
+Examples
+--------
+>>> V, skipped = measured_positions(obj, "WORLD", "EVALUATED")   # doctest: +SKIP
+"""
+
+import bpy
+import numpy as np
+
+from .adapters import AddonError
+
+SPACES = ("WORLD", "LOCAL")
+SHAPES = ("EVALUATED", "BASIS")
+
+#: Modifier types that move vertices and keep the mesh's vertices as they are (count and order).
+DEFORM_MODIFIERS = frozenset({
+    "ARMATURE", "CAST", "CORRECTIVE_SMOOTH", "CURVE", "DISPLACE", "HOOK", "LAPLACIANDEFORM",
+    "LAPLACIANSMOOTH", "LATTICE", "MESH_CACHE", "MESH_DEFORM", "SHRINKWRAP", "SIMPLE_DEFORM", "SMOOTH",
+    "SURFACE_DEFORM", "WARP", "WAVE",
+})
+
+
+def check_choice(name, value, choices):
+    """``value`` if it is one of ``choices``; an :class:`AddonError` naming them otherwise."""
+    if value not in choices:
+        raise AddonError(f"{name} must be one of {', '.join(choices)}, got {value!r}")
+    return value
+
+
+def _evaluated_positions(obj, depsgraph):
+    """Vertex positions of ``obj`` as ``depsgraph`` evaluates it, in object coordinates."""
+    evaluated = obj.evaluated_get(depsgraph)
+    mesh = evaluated.to_mesh()
+    try:
+        co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+        mesh.vertices.foreach_get("co", co)
+    finally:
+        evaluated.to_mesh_clear()
+    return co.reshape(-1, 3).astype(np.float64)
+
+
+def displayed_positions(obj):
+    """The positions of ``obj``'s own vertices as displayed, and the topology-changing modifiers skipped.
+
+    Returns
+    -------
+    V : (n, 3) float array
+        One row per vertex of ``obj.data``, in object coordinates.
+    skipped : list of str
+        Names of the modifiers left out because they change the vertices
+        (their switches are restored before this returns).
+    """
+    n = len(obj.data.vertices)
+    V = _evaluated_positions(obj, bpy.context.evaluated_depsgraph_get())
+    if len(V) == n:
+        return V, []
+    off = [m for m in obj.modifiers if m.show_viewport and m.type not in DEFORM_MODIFIERS]
+    try:
+        for m in off:
+            m.show_viewport = False
+        V = _evaluated_positions(obj, bpy.context.evaluated_depsgraph_get())
+    finally:
+        for m in off:
+            m.show_viewport = True
+        bpy.context.view_layer.update()
+    if len(V) != n:
+        raise AddonError(
+            f"the modifiers of {obj.name!r} change its vertices even without "
+            f"{', '.join(m.name for m in off) or 'any non-deforming modifier'}; use shape='BASIS'"
+        )
+    return V, [m.name for m in off]
+
+
+def measured_positions(obj, space="WORLD", shape="EVALUATED"):
+    """Vertex positions of ``obj``'s mesh where the distance is measured, and the modifiers skipped.
+
+    Parameters
+    ----------
+    obj : bpy.types.Object
+        A mesh object (in Object Mode, or synced with ``update_from_editmode``).
+    space : {"WORLD", "LOCAL"}
+    shape : {"EVALUATED", "BASIS"}
+
+    Returns
+    -------
+    V : (n, 3) float array
+    skipped : list of str
+        Topology-changing modifiers left out (``shape="EVALUATED"`` only).
+    """
+    check_choice("space", space, SPACES)
+    check_choice("shape", shape, SHAPES)
+    if shape == "EVALUATED":
+        V, skipped = displayed_positions(obj)
+    else:
+        co = np.empty(3 * len(obj.data.vertices), dtype=np.float32)
+        obj.data.vertices.foreach_get("co", co)
+        V, skipped = co.reshape(-1, 3).astype(np.float64), []
+    if space == "WORLD":
+        M = np.array(obj.matrix_world, dtype=np.float64)
+        V = V @ M[:3, :3].T + M[:3, 3]
+    return V, skipped
