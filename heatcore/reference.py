@@ -29,6 +29,8 @@ def exact_distance(V, F, sources):
 
     Examples
     --------
+    >>> import pytest
+    >>> _ = pytest.importorskip("gdist")  # the test and bench extras
     >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
     >>> exact_distance(V, np.array([[0, 1, 2], [1, 3, 2]], dtype=np.int32), [0]).round(4).tolist()
     [0.0, 1.0, 1.0, 1.4142]

@@ -164,7 +164,7 @@ def run_distance(args):
     ... # doctest: +ELLIPSIS
     wrote .../d.npy
     0
-    >>> np.load(out)[0], np.load(out).shape
+    >>> float(np.load(out)[0]), np.load(out).shape
     (0.0, (2930,))
     >>> tmp.cleanup()
     """

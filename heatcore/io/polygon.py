@@ -93,7 +93,8 @@ def read_polygon_mesh(path):
 
     Examples
     --------
-    >>> import tempfile, pathlib
+    >>> import pytest, tempfile, pathlib
+    >>> _ = pytest.importorskip("potpourri3d")  # the polygon extra
     >>> tmp = tempfile.TemporaryDirectory()
     >>> path = pathlib.Path(tmp.name) / "quad.off"
     >>> _ = path.write_text("OFF\\n4 1 0\\n0 0 0\\n1 0 0\\n1 1 0\\n0 1 0\\n4 0 1 2 3\\n")

@@ -7,7 +7,7 @@ Examples
 >>> P = np.column_stack([rng.random((200, 2)), np.zeros(200)])
 >>> point_map, distinct = merge_duplicates(P)
 >>> nbr, dist = nearest_neighbors(distinct, 8)
->>> np.abs(pca_normals(distinct, nbr)[:, 2]).round(6).min()
+>>> float(np.abs(pca_normals(distinct, nbr)[:, 2]).round(6).min())
 1.0
 """
 
