@@ -1,16 +1,4 @@
-"""The point-cloud domain: :class:`PointCloud` (see :mod:`heatcore.domains.pointcloud` for the construction).
-
-Examples
---------
->>> import numpy as np
->>> import heatcore as hc
->>> rng = np.random.default_rng(0)
->>> P = np.column_stack([rng.random((400, 2)), np.zeros(400)])
->>> cloud = PointCloud(P, k=16)
->>> d = hc.HeatSolver(cloud).distance([0])
->>> bool(np.all(np.isfinite(d)))
-True
-"""
+"""The point-cloud domain: :class:`PointCloud` (the construction, and an example, in :mod:`heatcore.domains.pointcloud`)."""
 
 import numpy as np
 
