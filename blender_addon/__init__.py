@@ -8,7 +8,8 @@ and heatcore.
 
 Modules: ``adapters`` (bpy <-> arrays), ``cache`` (prefactored solvers),
 ``api`` (:func:`compute_geodesic_distance` for scripts), ``properties``,
-``operator``, ``panel``.
+``operator``, ``panel``, ``shape`` (which shape is measured), ``undo``
+(active color across undo).
 
 Examples
 --------
@@ -20,7 +21,7 @@ Examples
 
 import bpy
 
-from . import operator, panel, properties
+from . import operator, panel, properties, undo
 from .adapters import AddonError
 from .api import GeodesicResult, compute_geodesic_distance
 from .cache import SOLVERS
@@ -33,10 +34,12 @@ def register():
     properties.register()
     bpy.utils.register_class(operator.MESH_OT_heat_geodesic_distance)
     panel.register()
+    undo.register()
 
 
 def unregister():
     """Unregister everything :func:`register` added and drop cached solvers."""
+    undo.unregister()
     panel.unregister()
     bpy.utils.unregister_class(operator.MESH_OT_heat_geodesic_distance)
     properties.unregister()

@@ -22,7 +22,8 @@ from ._heatcore import colormap as colormaps
 from ._heatcore import heatcore
 from .adapters import AddonError
 from .cache import SOLVERS
-from .shape import measured_positions
+from .shape import evaluated_copy, measured_positions, nearest_vertices
+from .undo import remember_active_color
 
 #: ``heatcore.options``: every option's name, range, default and help (the bundled copy's).
 options = importlib.import_module(heatcore.__name__ + ".options")
@@ -57,6 +58,10 @@ class GeodesicResult:
     skipped_modifiers : list of str
         Modifiers left out because they change the vertices (``shape="EVALUATED"``):
         the distance is measured on the deformed cage of the mesh's own vertices.
+    warnings : list of str
+        What the user should know about this run (also issued as ``UserWarning``).
+    object : bpy.types.Object
+        The object written to: the one given, or its evaluated copy (``new_object=True``).
     """
 
     distance: np.ndarray
@@ -67,19 +72,26 @@ class GeodesicResult:
     solver_seconds: float
     cached: bool
     skipped_modifiers: list
+    warnings: list
+    object: object = None
 
 
 def _no_progress(fraction, message):
     pass
 
 
-def resolve_sources(obj, sources=None, vertex_group=None):
+def resolve_sources(obj, sources=None, vertex_group=None, F=None, notes=None):
     """Source vertex indices: given ones, a vertex group's members, or the selection.
+
+    Vertices no face uses (loose vertices) are dropped when other sources
+    remain, and a note is appended to ``notes``; so is a note when a whole
+    mesh selected in Object Mode (as after adding a primitive) makes every
+    vertex a source.
 
     Raises
     ------
     AddonError
-        No source vertex, or indices outside the mesh.
+        No source vertex, only loose ones, or indices outside the mesh.
     """
     n = len(obj.data.vertices)
     if sources is not None:
@@ -99,9 +111,28 @@ def resolve_sources(obj, sources=None, vertex_group=None):
         )
         raise AddonError(f"no source vertices: {what} of {obj.name!r} is empty; {hint}")
     try:
-        return options.check_source_vertices(src, n)
+        src = options.check_source_vertices(src, n)
     except heatcore.InvalidSourceError as exc:
         raise AddonError(str(exc)) from None
+    notes = [] if notes is None else notes
+    if F is not None and F.size:
+        loose = np.bincount(F.ravel(), minlength=n)[src] == 0
+        if loose.all():
+            raise AddonError(f"no source vertices: {what} of {obj.name!r} holds only vertices no face uses "
+                             f"({_listed(src)}); select vertices of the surface")
+        if loose.any():
+            notes.append(f"{loose.sum():,} of the sources are loose vertices (no face uses them: "
+                         f"{_listed(src[loose])}); measured from the other {(~loose).sum():,}")
+            src = src[~loose]
+    if sources is None and not vertex_group and obj.mode == "OBJECT" and src.size == n > 1:
+        notes.append(f"all {n:,} vertices of {obj.name!r} are selected (as after adding a primitive), so every "
+                     "vertex is a source and every distance is 0; select the sources in Edit Mode")
+    return src
+
+
+def _listed(indices, shown=5):
+    text = ", ".join(str(i) for i in indices[:shown])
+    return text + (f" and {len(indices) - shown:,} more" if len(indices) > shown else "")
 
 
 def _renamed(solver_options):
@@ -130,6 +161,7 @@ def compute_geodesic_distance(
     weight_group=None,
     space="WORLD",
     shape="EVALUATED",
+    new_object=False,
     progress=None,
     **solver_options,
 ):
@@ -172,6 +204,12 @@ def compute_geodesic_distance(
         (modifiers that change the vertices, such as Subdivision or Mirror,
         are left out, with a warning naming them); "BASIS": the mesh data as
         stored. ``space="LOCAL", shape="BASIS"`` measures the mesh data alone.
+    new_object : bool
+        Measure the whole evaluated mesh (every modifier applied, Subdivision
+        and Mirror included) on a new object ``"<name> Geodesic"`` (reused on
+        re-runs) and write the outputs there; ``obj`` is not modified. Its
+        sources are the new mesh's vertices nearest to the source vertices as
+        displayed. Needs ``shape="EVALUATED"``.
     progress : callable, optional
         ``progress(fraction, message)`` called between stages.
     **solver_options
@@ -212,14 +250,25 @@ def compute_geodesic_distance(
     progress(0.05, "reading mesh")
     if obj.mode == "EDIT":
         obj.update_from_editmode()
+    if len(mesh.vertices) == 0:
+        raise AddonError(f"mesh {mesh.name!r} has no vertices")
+    notes = []
     _, F = adapters.mesh_arrays(mesh)
+    src = resolve_sources(obj, sources, vertex_group, F, notes)
+    if new_object:
+        if shape != "EVALUATED":
+            raise AddonError("new_object=True measures the evaluated mesh: it needs shape='EVALUATED'")
+        cage, _ = measured_positions(obj, "LOCAL", "EVALUATED")
+        obj = evaluated_copy(obj)
+        mesh, shape = obj.data, "BASIS"
+        src = np.unique(nearest_vertices(obj, cage[src]))
+        _, F = adapters.mesh_arrays(mesh)
     V, skipped = measured_positions(obj, space, shape)
     if skipped:
-        warnings.warn(f"{obj.name}: distance measured without the modifiers that change its vertices "
-                      f"({', '.join(skipped)}), on the deformed cage of its own vertices", stacklevel=2)
-    if len(V) == 0:
-        raise AddonError(f"mesh {mesh.name!r} has no vertices")
-    src = resolve_sources(obj, sources, vertex_group)
+        notes.append(f"{obj.name}: distance measured without the modifiers that change its vertices "
+                     f"({', '.join(skipped)}), on the deformed cage of its own vertices")
+    for note in notes:
+        warnings.warn(note, stacklevel=2)
 
     mesh_options = {k: solver_options.pop(k, default) for k, default in MESH_OPTIONS.items()}
     if not F.shape[0]:  # a point cloud takes refine only
@@ -238,7 +287,7 @@ def compute_geodesic_distance(
         solver_seconds = time.perf_counter() - t0
         return solver
 
-    solver, cached = SOLVERS.get(mesh.session_uid, V, F, {**mesh_options, **solver_options}, build)
+    solver, cached = SOLVERS.get(mesh.name_full if new_object else mesh.session_uid, V, F, {**mesh_options, **solver_options}, build)
     progress(0.8, "solving for the distance")
     d = solver.distance(src)
     finite = np.isfinite(d)
@@ -250,6 +299,7 @@ def compute_geodesic_distance(
         if attribute is not None:
             adapters.write_float_attribute(mesh, attribute, np.where(finite, d * scale, adapters.UNREACHABLE_VALUE))
         if color_attribute is not None:
+            remember_active_color(mesh, color_attribute)
             rgb = colormaps.colorize(d, colormap=colormap, isolines=int(isolines))
             adapters.write_color_attribute(mesh, color_attribute, rgb)
         if weight_group:
@@ -266,4 +316,6 @@ def compute_geodesic_distance(
         solver_seconds=solver_seconds,
         cached=cached,
         skipped_modifiers=skipped,
+        warnings=notes,
+        object=obj,
     )

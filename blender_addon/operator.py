@@ -75,7 +75,7 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
 
         stats = wm.heat_geodesic_stats
         stats.valid = True
-        stats.object_name = obj.name
+        stats.object_name = result.object.name
         stats.vertices = result.n_vertices
         stats.sources = result.sources.size
         stats.max_distance = result.max_distance
@@ -83,13 +83,13 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
         stats.solver_seconds = result.solver_seconds
         stats.cached = result.cached
         show_color_attribute(context)
-        if result.skipped_modifiers:
-            self.report({"WARNING"}, f"Measured without {', '.join(result.skipped_modifiers)}: these modifiers change "
-                                     "the vertices, so the distance is on the deformed cage of the mesh's own vertices")
+        for note in result.warnings:
+            self.report({"WARNING"}, note)
         how = "cached solver" if result.cached else f"solver built in {result.solver_seconds:.2f} s"
+        where = f" (written to {result.object.name!r})" if result.object != obj else ""
         self.report(
             {"INFO"},
-            f"Geodesic distance on {result.n_vertices:,} vertices from {result.sources.size:,} sources: "
+            f"Geodesic distance on {result.n_vertices:,} vertices{where} from {result.sources.size:,} sources: "
             f"max {result.max_distance:.4g}, {result.seconds:.2f} s ({how})",
         )
         return {"FINISHED"}

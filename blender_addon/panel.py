@@ -32,6 +32,9 @@ class VIEW3D_PT_heat_geodesic(bpy.types.Panel):
         col = layout.column(heading="Measure")
         col.prop(settings, "space")
         col.prop(settings, "shape")
+        row = col.row()
+        row.enabled = settings.shape == "EVALUATED"
+        row.prop(settings, "new_object")
 
         col = layout.column(heading="Solver")
         col.prop(settings, "m")

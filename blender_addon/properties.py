@@ -85,6 +85,13 @@ class GeodesicOptions:
     weight_group: StringProperty(name="Weight Group", default=DEFAULT_ATTRIBUTE)
     space: EnumProperty(name="Space", items=SPACE_ITEMS, default="WORLD")
     shape: EnumProperty(name="Shape", items=SHAPE_ITEMS, default="EVALUATED")
+    new_object: BoolProperty(
+        name="Apply All Modifiers (New Object)",
+        description="Measure the whole evaluated mesh, Subdivision, Mirror and other modifiers that change the "
+                    "vertices included, on a new object '<name> Geodesic' (reused on re-runs); the original is "
+                    "not modified",
+        default=False,
+    )
 
     def call_options(self):
         """Keyword arguments of :func:`compute_geodesic_distance` for these options."""
@@ -98,6 +105,7 @@ class GeodesicOptions:
             weight_group=self.weight_group if self.write_weights else None,
             space=self.space,
             shape=self.shape,
+            new_object=self.new_object,
             **self.solver_options(),
         )
 

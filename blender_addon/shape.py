@@ -9,6 +9,10 @@ vertices, which is where it is written. ``shape="BASIS"`` reads the mesh data
 as stored. ``space="WORLD"`` applies the object's world matrix (scale,
 rotation, parents), ``"LOCAL"`` measures in object coordinates.
 
+:func:`evaluated_copy` is the other way to treat modifiers that change the
+vertices: the whole evaluated mesh (every modifier applied) becomes a new
+object, and the distance is measured and written there.
+
 Examples
 --------
 >>> V, skipped = measured_positions(obj, "WORLD", "EVALUATED")   # doctest: +SKIP
@@ -16,6 +20,7 @@ Examples
 
 import bpy
 import numpy as np
+from scipy.spatial import cKDTree
 
 from .adapters import AddonError
 
@@ -109,3 +114,61 @@ def measured_positions(obj, space="WORLD", shape="EVALUATED"):
         M = np.array(obj.matrix_world, dtype=np.float64)
         V = V @ M[:3, :3].T + M[:3, 3]
     return V, skipped
+
+
+#: Custom property marking the objects :func:`evaluated_copy` made (value: the original's name).
+COPY_MARKER = "heat_geodesic_copy_of"
+
+
+def evaluated_copy(obj):
+    """A new object holding ``obj``'s mesh as displayed, every modifier applied; reused on re-runs.
+
+    The copy is named ``"<name> Geodesic"``, placed with ``obj``'s world
+    matrix in ``obj``'s collections, and marked with :data:`COPY_MARKER`. A
+    copy made earlier for the same object gets the new mesh (its old mesh is
+    removed); ``obj`` itself is not modified.
+
+    Returns
+    -------
+    bpy.types.Object
+
+    Examples
+    --------
+    >>> copy = evaluated_copy(bpy.context.object)   # doctest: +SKIP
+    >>> copy.name                                   # doctest: +SKIP
+    'Suzanne Geodesic'
+    """
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    mesh = bpy.data.meshes.new_from_object(evaluated)
+    copy = next((o for o in bpy.data.objects if o.get(COPY_MARKER) == obj.name and o.type == "MESH"), None)
+    if copy is None:
+        mesh.name = f"{obj.name} Geodesic"
+        copy = bpy.data.objects.new(mesh.name, mesh)
+        copy[COPY_MARKER] = obj.name
+        for collection in obj.users_collection or (bpy.context.scene.collection,):
+            collection.objects.link(copy)
+    else:
+        old, copy.data = copy.data, mesh
+        mesh.name = old.name
+        if old.users == 0:
+            bpy.data.meshes.remove(old)
+    copy.matrix_world = obj.matrix_world
+    return copy
+
+
+def nearest_vertices(copy, positions):
+    """Vertex of ``copy`` nearest to each of ``positions`` (object coordinates), as an int array.
+
+    Maps source vertices of an object to the vertices of its
+    :func:`evaluated_copy`: a vertex kept by the modifiers sits where it is
+    displayed (Mirror, Array: the original side), a smoothed one (Subdivision)
+    moves less than half an edge.
+
+    Examples
+    --------
+    >>> nearest_vertices(copy, V[sources])   # doctest: +SKIP
+    array([412])
+    """
+    co = np.empty(3 * len(copy.data.vertices), dtype=np.float32)
+    copy.data.vertices.foreach_get("co", co)
+    return cKDTree(co.reshape(-1, 3)).query(np.asarray(positions, dtype=np.float64).reshape(-1, 3))[1].astype(np.int64)
