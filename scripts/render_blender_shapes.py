@@ -150,6 +150,7 @@ def main(argv=None):
         for name in SCENES:
             subprocess.run([sys.executable, __file__, "--only", name, "--out", args.out], check=True)
         return
+    bpy.ops.wm.read_factory_settings(use_empty=True)
     addon = load_addon()
     build, size = SCENES[args.only]
     objects, direction = build(addon)
