@@ -8,8 +8,10 @@ and heatcore.
 
 Modules: ``adapters`` (bpy <-> arrays), ``cache`` (prefactored solvers),
 ``api`` (:func:`compute_geodesic_distance` for scripts), ``properties``,
-``operator``, ``panel``, ``shape`` (which shape is measured), ``undo``
-(active color across undo).
+``operator``, ``panel`` (the sidebar panel and its *Advanced* sub-panel),
+``menus`` (entries in the Edit Mode, Object Mode and Weight Paint menus; F3
+finds them), ``shape`` (which shape is measured), ``undo`` (active color
+across undo).
 
 Examples
 --------
@@ -21,7 +23,7 @@ Examples
 
 import bpy
 
-from . import operator, panel, properties, undo
+from . import menus, operator, panel, properties, undo
 from .adapters import AddonError
 from .api import GeodesicResult, compute_geodesic_distance
 from .cache import SOLVERS
@@ -30,15 +32,17 @@ __all__ = ["compute_geodesic_distance", "GeodesicResult", "AddonError", "registe
 
 
 def register():
-    """Register the settings, the operator and the sidebar panel."""
+    """Register the settings, the operator, the sidebar panel and the menu entries."""
     properties.register()
     bpy.utils.register_class(operator.MESH_OT_heat_geodesic_distance)
     panel.register()
     undo.register()
+    menus.register()
 
 
 def unregister():
     """Unregister everything :func:`register` added and drop cached solvers."""
+    menus.unregister()
     undo.unregister()
     panel.unregister()
     bpy.utils.unregister_class(operator.MESH_OT_heat_geodesic_distance)

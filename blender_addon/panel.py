@@ -1,4 +1,10 @@
-"""Sidebar panel: View3D > Sidebar > Geodesic."""
+"""Sidebar panel: View3D > Sidebar > Geodesic, with a closed *Advanced* sub-panel.
+
+The main panel holds what a user chooses (sources, how to measure, the time
+factor, the accuracy, the outputs); the solver's technical settings
+(boundary condition, robust operators, linear-algebra backend) are in the
+*Advanced* sub-panel, closed by default.
+"""
 
 import bpy
 
@@ -38,9 +44,7 @@ class VIEW3D_PT_heat_geodesic(bpy.types.Panel):
 
         col = layout.column(heading="Solver")
         col.prop(settings, "m")
-        col.prop(settings, "boundary")
         col.prop(settings, "accuracy")
-        col.prop(settings, "robust")
 
         col = layout.column(heading="Output")
         col.prop(settings, "attribute")
@@ -62,7 +66,31 @@ class VIEW3D_PT_heat_geodesic(bpy.types.Panel):
             box.label(text=f"{stats.seconds:.2f} s ({solver})")
 
 
-CLASSES = (VIEW3D_PT_heat_geodesic,)
+class VIEW3D_PT_heat_geodesic_advanced(bpy.types.Panel):
+    """Solver settings most users never change (closed by default)."""
+
+    bl_label = "Advanced"
+    bl_idname = "VIEW3D_PT_heat_geodesic_advanced"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "Geodesic"
+    bl_parent_id = VIEW3D_PT_heat_geodesic.bl_idname
+    bl_options = {"DEFAULT_CLOSED"}
+
+    #: The settings shown here, in order.
+    PROPERTIES = ("boundary", "robust", "backend")
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        settings = context.scene.heat_geodesic
+        col = layout.column()
+        for name in self.PROPERTIES:
+            col.prop(settings, name)
+
+
+CLASSES = (VIEW3D_PT_heat_geodesic, VIEW3D_PT_heat_geodesic_advanced)
 
 
 def register():

@@ -2,7 +2,8 @@
 
 :class:`GeodesicOptions` declares every option once; the operator and the
 scene settings shown in the panel both inherit it. heatcore's options
-(``m``, ``boundary``, ``accuracy``, ``robust``, ``colormap``, ``isolines``)
+(``m``, ``boundary``, ``accuracy``, ``robust``, ``backend``, ``colormap``,
+``isolines``)
 are generated from ``heatcore.options`` by :func:`option_property`: the
 property name is the option's name, and its description, default, range and
 choices are the declared ones (the label may be friendlier). The add-on's own
@@ -15,9 +16,12 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, Po
 from .api import DEFAULT_ATTRIBUTE, DEFAULT_COLOR_ATTRIBUTE, options
 
 #: heatcore options that are properties here, in panel order.
-HEATCORE_OPTIONS = ("m", "boundary", "accuracy", "robust", "colormap", "isolines")
+HEATCORE_OPTIONS = ("m", "boundary", "accuracy", "robust", "backend", "colormap", "isolines")
 #: Of those, the ones passed to heatcore's domain and solver.
-SOLVER_OPTIONS = ("m", "boundary", "accuracy", "robust")
+SOLVER_OPTIONS = ("m", "boundary", "accuracy", "robust", "backend")
+
+#: Enum labels that are not the choice capitalized (library names).
+CHOICE_LABELS = {"qdldl": "QDLDL", "cholmod": "CHOLMOD", "superlu": "SuperLU"}
 
 SPACE_ITEMS = [
     ("WORLD", "World", "Measure in scene units: the object's scale, rotation and parents applied"),
@@ -46,7 +50,7 @@ def option_property(name):
     opt = options.OPTIONS[name]
     kw = {"name": opt.ui_label or opt.label.title(), "description": opt.help, "default": opt.default_for("blender")}
     if opt.choices:
-        items = [(c, c.capitalize(), text) for c, text in zip(opt.choices, opt.choice_help)]
+        items = [(c, CHOICE_LABELS.get(c, c.capitalize()), text) for c, text in zip(opt.choices, opt.choice_help)]
         return EnumProperty(items=items, **kw)
     if opt.type is bool:
         return BoolProperty(**kw)
@@ -66,6 +70,7 @@ class GeodesicOptions:
     boundary: option_property("boundary")
     accuracy: option_property("accuracy")
     robust: option_property("robust")
+    backend: option_property("backend")
     attribute: StringProperty(
         name="Attribute", description="FLOAT point attribute that receives the distance", default=DEFAULT_ATTRIBUTE
     )

@@ -254,6 +254,12 @@ _OPTIONS = (
         "backend", "linear-algebra backend", str, "auto", "none (a choice)",
         "sparse factorization backend: auto picks by size (see heatcore.linalg)",
         "solver", choices=("auto", "supernodal", "qdldl", "cholmod", "superlu"),
+        choice_help=("The fastest installed library for the mesh size (recommended)",
+                     "CHOLMOD's supernodal Cholesky through cvxopt: fastest factorization of large meshes",
+                     "QDLDL's simplicial LDL^T: fast factorization of small and medium meshes",
+                     "CHOLMOD through cholespy: the fastest solves",
+                     "SciPy's SuperLU: always present, slowest"),
+        ui_label="Backend",
     ),
     Option(
         "robust", "robust setting", bool, True, "none (on or off)",

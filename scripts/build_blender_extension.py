@@ -61,6 +61,17 @@ REQUIREMENTS = ["scipy==1.15.3", "cholespy==2.2.0", "qdldl==0.1.9.post1"]
 #: Poisson factor of meshes from 500k vertices up a third smaller (MIT; no Windows wheel). None
 #: needs numpy.
 OPTIONAL_REQUIREMENTS = [["cvxopt==1.3.3"], ["pymetis==2025.2.2", "typing-extensions==4.16.0"]]
+#: SPDX license of each bundled wheel, as its metadata states it (the libraries its binaries carry
+#: are listed in docs/blender.md). blender_manifest.toml and docs/blender.md name every wheel with
+#: its license; tests/test_blender_menus.py keeps them equal to this table and to the pins above.
+WHEEL_LICENSES = {
+    "scipy": "BSD-3-Clause",
+    "cholespy": "BSD-3-Clause",
+    "qdldl": "Apache-2.0",
+    "cvxopt": "GPL-3.0-or-later",
+    "pymetis": "MIT AND Apache-2.0",
+    "typing-extensions": "PSF-2.0",
+}
 
 
 def current_platform():

@@ -1,0 +1,94 @@
+"""Menu entries of the geodesic distance operator, so that it can be found where mesh tools are.
+
+Edit Mode: the right-click context menu, the header's *Vertex* menu and
+*Mesh › Weights*; Object Mode: the *Object* menu and the right-click
+context menu (mesh objects); Weight Paint: the *Weights* menu. The *Weights*
+entries run the operator with the vertex-group output on. Blender's menu
+search (F3) finds every entry, by its label, in the mode where its menu is
+shown. :data:`ENTRIES` lists them; :func:`register` appends one draw function
+per menu (never twice) and :func:`unregister` removes them all.
+"""
+
+import bpy
+
+from .operator import MESH_OT_heat_geodesic_distance
+
+OPERATOR = MESH_OT_heat_geodesic_distance.bl_idname
+ICON = "DRIVER_DISTANCE"
+#: Marker attribute of our draw functions (finds entries left by an earlier copy of the module).
+MARK = "_heat_geodesic_entry"
+
+
+def _entry(menu, text, weights=False, mesh_only=False):
+    """A draw function adding one operator entry to ``menu`` (a separator, then the entry)."""
+
+    def draw(self, context):
+        if mesh_only:
+            obj = context.active_object
+            if obj is None or obj.type != "MESH":
+                return
+        layout = self.layout
+        layout.separator()
+        # Invoke: options not given by the entry come from the panel (as from the button).
+        layout.operator_context = "INVOKE_REGION_WIN"
+        props = layout.operator(OPERATOR, text=text, icon=ICON)
+        if weights:
+            props.write_weights = True
+
+    draw.__name__ = draw.__qualname__ = f"draw_heat_geodesic_{menu}"
+    setattr(draw, MARK, menu)
+    return draw
+
+
+#: (menu class name, draw function): where the operator appears.
+ENTRIES = (
+    ("VIEW3D_MT_edit_mesh_context_menu", _entry("VIEW3D_MT_edit_mesh_context_menu", "Geodesic Distance")),
+    ("VIEW3D_MT_edit_mesh_vertices", _entry("VIEW3D_MT_edit_mesh_vertices", "Geodesic Distance")),
+    ("VIEW3D_MT_edit_mesh_weights", _entry("VIEW3D_MT_edit_mesh_weights", "Geodesic Distance Weights", weights=True)),
+    ("VIEW3D_MT_object", _entry("VIEW3D_MT_object", "Geodesic Distance", mesh_only=True)),
+    ("VIEW3D_MT_object_context_menu", _entry("VIEW3D_MT_object_context_menu", "Geodesic Distance", mesh_only=True)),
+    ("VIEW3D_MT_paint_weight", _entry("VIEW3D_MT_paint_weight", "Geodesic Distance Weights", weights=True)),
+)
+
+
+def ours(menu):
+    """The draw functions of this add-on in ``bpy.types.<menu>`` (none when unregistered).
+
+    Examples
+    --------
+    >>> ours("VIEW3D_MT_paint_weight")  # doctest: +SKIP
+    [<function draw_heat_geodesic_VIEW3D_MT_paint_weight ...>]
+    """
+    funcs = getattr(getattr(bpy.types, menu).draw, "_draw_funcs", None) or []
+    return [f for f in funcs if getattr(f, MARK, None) == menu]
+
+
+def register():
+    """Append the entries; entries already there (an earlier copy of this module) are replaced.
+
+    Examples
+    --------
+    >>> register()  # doctest: +SKIP
+    >>> len(ours("VIEW3D_MT_object"))  # doctest: +SKIP
+    1
+    """
+    for menu, draw in ENTRIES:
+        cls = getattr(bpy.types, menu)
+        for old in ours(menu):
+            cls.remove(old)
+        cls.append(draw)
+
+
+def unregister():
+    """Remove every entry :func:`register` added.
+
+    Examples
+    --------
+    >>> unregister()  # doctest: +SKIP
+    >>> ours("VIEW3D_MT_object")  # doctest: +SKIP
+    []
+    """
+    for menu, _ in reversed(ENTRIES):
+        cls = getattr(bpy.types, menu)
+        for old in ours(menu):
+            cls.remove(old)
