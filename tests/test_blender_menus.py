@@ -253,7 +253,7 @@ def test_backend_is_passed_to_the_solver(addon):
         assert bpy.ops.mesh.heat_geodesic_distance(backend="superlu") == {"FINISHED"}
     stats = bpy.context.window_manager.heat_geodesic_stats
     assert not stats.cached  # another backend is another solver
-    (_, solver), = [e for k, e in addon.cache.SOLVERS._entries.items() if k == obj.data.session_uid]
+    (_, solver), = [e for k, e in addon.SOLVERS._entries.items() if k == obj.data.session_uid]
     assert solver._backend == "superlu"
     d = attribute(obj.data, "geodesic_distance")
     V = np.array([v.co for v in obj.data.vertices])
