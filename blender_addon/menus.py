@@ -44,6 +44,7 @@ def _entry(menu, text, weights=False, mesh_only=False):
 ENTRIES = (
     ("VIEW3D_MT_edit_mesh_context_menu", _entry("VIEW3D_MT_edit_mesh_context_menu", "Geodesic Distance")),
     ("VIEW3D_MT_edit_mesh_vertices", _entry("VIEW3D_MT_edit_mesh_vertices", "Geodesic Distance")),
+    ("VIEW3D_MT_select_edit_mesh", _entry("VIEW3D_MT_select_edit_mesh", "Geodesic Distance")),
     ("VIEW3D_MT_edit_mesh_weights", _entry("VIEW3D_MT_edit_mesh_weights", "Geodesic Distance Weights", weights=True)),
     ("VIEW3D_MT_object", _entry("VIEW3D_MT_object", "Geodesic Distance", mesh_only=True)),
     ("VIEW3D_MT_object_context_menu", _entry("VIEW3D_MT_object_context_menu", "Geodesic Distance", mesh_only=True)),

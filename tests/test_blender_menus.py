@@ -116,6 +116,7 @@ WEIGHT_MENUS = {"VIEW3D_MT_paint_weight", "VIEW3D_MT_edit_mesh_weights"}
 BUILT_IN = {
     "VIEW3D_MT_edit_mesh_context_menu": "mesh.extrude_vertices_move",
     "VIEW3D_MT_edit_mesh_vertices": "mesh.vert_connect_path",
+    "VIEW3D_MT_select_edit_mesh": "mesh.select_axis",
     "VIEW3D_MT_edit_mesh_weights": "object.vertex_group_normalize",
     "VIEW3D_MT_object": "object.join",
     "VIEW3D_MT_object_context_menu": "object.delete",
@@ -132,7 +133,7 @@ def test_the_entries_are_in_menus_of_this_blender(addon):
 @pytest.mark.parametrize("menu", sorted(BUILT_IN))
 def test_each_menu_draws_our_entry_last_with_invoke(addon, menu):
     obj = ico_sphere(subdivisions=1)
-    if menu.startswith("VIEW3D_MT_edit_mesh"):
+    if menu.startswith(("VIEW3D_MT_edit_mesh", "VIEW3D_MT_select_edit")):
         mode(obj, "EDIT")
     try:
         log = draw(getattr(bpy.types, menu))
