@@ -22,6 +22,7 @@ from ._heatcore import colormap as colormaps
 from ._heatcore import heatcore
 from .adapters import AddonError
 from .cache import SOLVERS
+from .material import show_isoline_material
 from .shape import evaluated_copy, measured_positions, nearest_vertices
 from .undo import remember_active_color
 
@@ -135,6 +136,16 @@ def _listed(indices, shown=5):
     return text + (f" and {len(indices) - shown:,} more" if len(indices) > shown else "")
 
 
+def _check_isoline_options(attribute, spacing, width):
+    """The isoline material reads the distance attribute: it must be written; spacing >= 0, width > 0."""
+    if attribute is None:
+        raise AddonError("isoline_material=True draws the distance attribute: give an attribute name, not None")
+    if not (np.isfinite(spacing) and spacing >= 0):
+        raise AddonError(f"isoline_spacing must be 0 (from the isoline count) or a positive distance, got {spacing}")
+    if not (np.isfinite(width) and width > 0):
+        raise AddonError(f"isoline_width must be a positive number of pixels, got {width}")
+
+
 def _renamed(solver_options):
     """``time_factor=`` (the add-on's old name of ``m``) as ``m=``, with a DeprecationWarning."""
     if "time_factor" not in solver_options:
@@ -162,6 +173,9 @@ def compute_geodesic_distance(
     space="WORLD",
     shape="EVALUATED",
     new_object=False,
+    isoline_material=False,
+    isoline_spacing=0.0,
+    isoline_width=1.5,
     progress=None,
     **solver_options,
 ):
@@ -190,7 +204,8 @@ def compute_geodesic_distance(
     colormap : str
         A colormap of ``heatcore.viz.colormap.COLORMAPS`` (viridis, magma, ...).
     isolines : int
-        Number of dark isoline stripes in the colors (0 for none).
+        Number of isolines (0 for none): dark stripes in the vertex colors,
+        and the isoline material's lines (spacing: largest distance / isolines).
     normalize : bool
         Divide the distance attribute by the largest distance (values in [0, 1]).
     weight_group : str, optional
@@ -210,6 +225,19 @@ def compute_geodesic_distance(
         re-runs) and write the outputs there; ``obj`` is not modified. Its
         sources are the new mesh's vertices nearest to the source vertices as
         displayed. Needs ``shape="EVALUATED"``.
+    isoline_material : bool
+        Also show the distance per pixel: a generated material (colormap
+        colors and isolines of even width in screen pixels, drawn from the
+        interpolated ``attribute``, so independent of the mesh density) set
+        by a Geometry Nodes modifier "Geodesic Isolines" (added, or updated
+        on re-runs). The mesh's materials and material indices are not
+        modified; disable or remove the modifier to restore the look.
+    isoline_spacing : float
+        Distance between the material's isolines, in the units of the
+        distance (``space``); 0: the largest distance / ``isolines``.
+    isoline_width : float
+        Width of the material's isolines in screen pixels, at any zoom (a
+        line is 0.7 to 1 times it wide, by its direction on screen).
     progress : callable, optional
         ``progress(fraction, message)`` called between stages.
     **solver_options
@@ -246,6 +274,8 @@ def compute_geodesic_distance(
     for name, data_type in ((attribute, "FLOAT"), (color_attribute, "FLOAT_COLOR")):
         if name is not None:
             adapters.check_attribute_free(mesh, name, "POINT", data_type)
+    if isoline_material:
+        _check_isoline_options(attribute, isoline_spacing, isoline_width)
 
     progress(0.05, "reading mesh")
     if obj.mode == "EDIT":
@@ -306,6 +336,10 @@ def compute_geodesic_distance(
             weights = np.where(finite, d / dmax if dmax > 0 else 0.0, np.nan)
             adapters.write_vertex_group(obj, weight_group, np.clip(weights, 0.0, 1.0))
         mesh.update()
+    if isoline_material:
+        spacing = isoline_spacing or (dmax / isolines if isolines else 0.0)
+        show_isoline_material(obj, attribute, colormap=colormap, max_distance=dmax, spacing=spacing,
+                              attribute_scale=1.0 / scale, line_width=isoline_width, space=space)
     progress(1.0, "done")
     return GeodesicResult(
         distance=d,

@@ -8,6 +8,8 @@ factor, the accuracy, the outputs); the solver's technical settings
 
 import bpy
 
+from .legend import VIEW3D_PT_heat_geodesic_legend
+
 
 class VIEW3D_PT_heat_geodesic(bpy.types.Panel):
     """Button, options and last result of the geodesic distance operator."""
@@ -52,6 +54,10 @@ class VIEW3D_PT_heat_geodesic(bpy.types.Panel):
         col.prop(settings, "color_attribute", text="Colors")
         col.prop(settings, "colormap")
         col.prop(settings, "isolines")
+        col.prop(settings, "isoline_material")
+        if settings.isoline_material:
+            col.prop(settings, "isoline_spacing")
+            col.prop(settings, "isoline_width")
         col.prop(settings, "write_weights")
         if settings.write_weights:
             col.prop(settings, "weight_group")
@@ -90,7 +96,7 @@ class VIEW3D_PT_heat_geodesic_advanced(bpy.types.Panel):
             col.prop(settings, name)
 
 
-CLASSES = (VIEW3D_PT_heat_geodesic, VIEW3D_PT_heat_geodesic_advanced)
+CLASSES = (VIEW3D_PT_heat_geodesic, VIEW3D_PT_heat_geodesic_legend, VIEW3D_PT_heat_geodesic_advanced)
 
 
 def register():

@@ -97,6 +97,24 @@ class GeodesicOptions:
                     "not modified",
         default=False,
     )
+    isoline_material: BoolProperty(
+        name="Isoline Material",
+        description="Show the distance per pixel with a generated material: colormap colors and isolines of even "
+                    "width, independent of the mesh density (a 'Geodesic Isolines' modifier sets it; the mesh's "
+                    "own materials are not modified)",
+        default=False,
+    )
+    isoline_spacing: FloatProperty(
+        name="Spacing",
+        description="Distance between the material's isolines (0: the largest distance / Isolines)",
+        default=0.0, min=0.0, soft_max=10.0, subtype="DISTANCE",
+    )
+    isoline_width: FloatProperty(
+        name="Line Width",
+        description="Width of the material's isolines in screen pixels, at any zoom (0.7 to 1 times it, by the "
+                    "line's direction)",
+        default=1.5, min=0.1, max=20.0,
+    )
 
     def call_options(self):
         """Keyword arguments of :func:`compute_geodesic_distance` for these options."""
@@ -111,6 +129,9 @@ class GeodesicOptions:
             space=self.space,
             shape=self.shape,
             new_object=self.new_object,
+            isoline_material=self.isoline_material,
+            isoline_spacing=self.isoline_spacing,
+            isoline_width=self.isoline_width,
             **self.solver_options(),
         )
 

@@ -23,6 +23,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .adapters import AddonError
+from .material import is_isoline_modifier
 
 SPACES = ("WORLD", "LOCAL")
 SHAPES = ("EVALUATED", "BASIS")
@@ -69,7 +70,9 @@ def displayed_positions(obj):
     V = _evaluated_positions(obj, bpy.context.evaluated_depsgraph_get())
     if len(V) == n:
         return V, []
-    off = [m for m in obj.modifiers if m.show_viewport and m.type not in DEFORM_MODIFIERS]
+    # The add-on's isoline modifier only sets a material: it stays on and is never named.
+    off = [m for m in obj.modifiers
+           if m.show_viewport and m.type not in DEFORM_MODIFIERS and not is_isoline_modifier(m)]
     try:
         for m in off:
             m.show_viewport = False
