@@ -11,7 +11,8 @@ Modules: ``adapters`` (bpy <-> arrays), ``cache`` (prefactored solvers),
 ``operator``, ``panel`` (the sidebar panel and its *Advanced* sub-panel),
 ``menus`` (entries in the Edit Mode, Object Mode and Weight Paint menus; F3
 finds them), ``shape`` (which shape is measured), ``undo`` (active color
-across undo).
+across undo), ``material`` (the isoline material) and ``legend`` (its
+legend sub-panel).
 
 Examples
 --------

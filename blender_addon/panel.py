@@ -55,9 +55,10 @@ class VIEW3D_PT_heat_geodesic(bpy.types.Panel):
         col.prop(settings, "colormap")
         col.prop(settings, "isolines")
         col.prop(settings, "isoline_material")
-        if settings.isoline_material:
-            col.prop(settings, "isoline_spacing")
-            col.prop(settings, "isoline_width")
+        sub = col.column()
+        sub.enabled = settings.isoline_material
+        sub.prop(settings, "isoline_spacing")
+        sub.prop(settings, "isoline_width")
         col.prop(settings, "write_weights")
         if settings.write_weights:
             col.prop(settings, "weight_group")

@@ -1,8 +1,8 @@
 """Render the add-on's isoline material headless: ogre, per-vertex stripes beside per-pixel isolines.
 
 Imports the mesh, runs ``mesh.heat_geodesic_distance`` from the top of the
-head, then again with ``isoline_material=True`` on a linked duplicate (same
-mesh, so the solver comes from the cache), and renders both with EEVEE (what
+head, then again with ``isoline_material=True`` on a linked duplicate beside
+it (the same mesh, moved, so measured anew in world space), and renders both with EEVEE (what
 the viewport's Material Preview shows; software OpenGL through EGL works) or,
 with ``--engine CYCLES``, Cycles on the CPU: on the left the vertex colors
 with their isoline stripes (what exporters get), on the right the generated
