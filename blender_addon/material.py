@@ -17,7 +17,9 @@ Bump node evaluates its height one "Filter Width" of pixel footprint away in
 two directions (EEVEE: screen x and y; Cycles: two perpendicular tangents);
 with the band index as its height, its normal tilts exactly on those pixels
 and stays the surface normal everywhere else. A line is 0.7 to 1 times
-``width`` pixels wide, depending on its direction on screen.
+``width`` pixels wide, depending on its direction on screen. Blender 4.2 and
+4.3 have no *Filter Width*: there the lines are :data:`SURFACE_LINE_WIDTH` of
+the spacing wide on the surface, the width of the vertex-color stripes.
 
 Re-runs update the modifier, its node group and the material in place. The
 add-on's datablocks carry the custom property :data:`MARKER`; a datablock of
@@ -51,6 +53,8 @@ RAMP_SAMPLES = 32
 LINE_DARKNESS = 0.05
 #: Bump distance: large, so that a band change tilts the bump normal far from the surface normal.
 BUMP_DISTANCE = 1000.0
+#: Before Blender 4.4 (no Bump *Filter Width*): line width on the surface, as a fraction of the spacing.
+SURFACE_LINE_WIDTH = 0.08
 
 
 @dataclass
@@ -160,24 +164,11 @@ def _build_shader(material, attribute, colormap, max_distance, spacing, attribut
 
     band = _node(nodes, math, "Isoline Band", (-600, -200), operation="DIVIDE")
     band.inputs[1].default_value = spacing if spacing > 0 else 1.0
-    floor = _node(nodes, math, "Band Index", (-400, -200), operation="FLOOR")
-    bump = _node(nodes, "ShaderNodeBump", "Band Change", (-200, -200))
-    bump.inputs["Filter Width"].default_value = line_width  # pixel footprints on screen
-    bump.inputs["Distance"].default_value = BUMP_DISTANCE
-    geometry = _node(nodes, "ShaderNodeNewGeometry", "Geometry", (-200, -450))
-    tilt = _node(nodes, "ShaderNodeVectorMath", "Normal Tilt", (0, -250), operation="DOT_PRODUCT")
-    mask = _node(nodes, "ShaderNodeMapRange", "Isoline Mask", (200, -250), clamp=True)
-    for key, value in (("From Min", 0.999), ("From Max", 0.5), ("To Min", 0.0), ("To Max", 1.0)):
-        mask.inputs[key].default_value = value
+    links.new(dist.outputs[0], band.inputs[0])
     lines = _node(nodes, math, "Isolines", (400, -250), operation="MULTIPLY")
     lines.inputs[1].default_value = 1.0 if spacing > 0 else 0.0
-    links.new(dist.outputs[0], band.inputs[0])
-    links.new(band.outputs[0], floor.inputs[0])
-    links.new(floor.outputs[0], bump.inputs["Height"])
-    links.new(bump.outputs["Normal"], tilt.inputs[0])
-    links.new(geometry.outputs["Normal"], tilt.inputs[1])
-    links.new(tilt.outputs["Value"], mask.inputs["Value"])
-    links.new(mask.outputs["Result"], lines.inputs[0])
+    mask = _pixel_lines(tree, band, line_width) if pixel_lines_supported(tree) else _surface_lines(tree, band)
+    links.new(mask, lines.inputs[0])
 
     color = _node(nodes, "ShaderNodeMix", "Isoline Color", (400, 200), data_type="RGBA", blend_type="MULTIPLY")
     _socket(color.inputs, "B_Color").default_value = (LINE_DARKNESS,) * 3 + (1.0,)
@@ -188,6 +179,66 @@ def _build_shader(material, attribute, colormap, max_distance, spacing, attribut
     output = _node(nodes, "ShaderNodeOutputMaterial", "Output", (950, 200))
     links.new(_socket(color.outputs, "Result_Color"), bsdf.inputs["Base Color"])
     links.new(bsdf.outputs["BSDF"], output.inputs["Surface"])
+
+
+def pixel_lines_supported(tree):
+    """Whether this Blender's Bump node has a *Filter Width* input (4.4 and later): lines a width in pixels.
+
+    Examples
+    --------
+    >>> pixel_lines_supported(material.node_tree)   # doctest: +SKIP
+    True
+    """
+    probe = tree.nodes.new("ShaderNodeBump")
+    try:
+        return "Filter Width" in probe.inputs
+    finally:
+        tree.nodes.remove(probe)
+
+
+def _pixel_lines(tree, band, line_width):
+    """Isoline mask: 1 where the band index changes within ``line_width`` pixels on screen (the Bump test)."""
+    nodes, links, math = tree.nodes, tree.links, "ShaderNodeMath"
+    floor = _node(nodes, math, "Band Index", (-400, -200), operation="FLOOR")
+    bump = _node(nodes, "ShaderNodeBump", "Band Change", (-200, -200))
+    bump.inputs["Filter Width"].default_value = line_width  # pixel footprints on screen
+    bump.inputs["Distance"].default_value = BUMP_DISTANCE
+    geometry = _node(nodes, "ShaderNodeNewGeometry", "Geometry", (-200, -450))
+    tilt = _node(nodes, "ShaderNodeVectorMath", "Normal Tilt", (0, -250), operation="DOT_PRODUCT")
+    mask = _node(nodes, "ShaderNodeMapRange", "Isoline Mask", (200, -250), clamp=True)
+    for key, value in (("From Min", 0.999), ("From Max", 0.5), ("To Min", 0.0), ("To Max", 1.0)):
+        mask.inputs[key].default_value = value
+    links.new(band.outputs[0], floor.inputs[0])
+    links.new(floor.outputs[0], bump.inputs["Height"])
+    links.new(bump.outputs["Normal"], tilt.inputs[0])
+    links.new(geometry.outputs["Normal"], tilt.inputs[1])
+    links.new(tilt.outputs["Value"], mask.inputs["Value"])
+    return mask.outputs["Result"]
+
+
+def _surface_lines(tree, band):
+    """Isoline mask before Blender 4.4: 1 within SURFACE_LINE_WIDTH of the spacing of a nonzero multiple."""
+    nodes, links, math = tree.nodes, tree.links, "ShaderNodeMath"
+    shifted = _node(nodes, math, "Band Phase", (-400, -200), operation="ADD")
+    shifted.inputs[1].default_value = 0.5
+    fract = _node(nodes, math, "Band Fraction", (-250, -200), operation="FRACT")
+    centred = _node(nodes, math, "Band Offset", (-100, -200), operation="SUBTRACT")
+    centred.inputs[1].default_value = 0.5
+    near = _node(nodes, math, "Isoline Mask", (50, -200), operation="LESS_THAN", use_clamp=False)
+    away = _node(nodes, math, "Away From Sources", (50, -400), operation="GREATER_THAN")
+    away.inputs[1].default_value = 0.5
+    both = _node(nodes, math, "Surface Isolines", (200, -250), operation="MULTIPLY")
+    absolute = _node(nodes, math, "Band Distance", (-100, -350), operation="ABSOLUTE")
+    near.inputs[1].default_value = 0.5 * SURFACE_LINE_WIDTH
+    links.new(band.outputs[0], shifted.inputs[0])
+    links.new(shifted.outputs[0], fract.inputs[0])
+    links.new(fract.outputs[0], centred.inputs[0])
+    links.new(centred.outputs[0], absolute.inputs[0])
+    links.new(absolute.outputs[0], near.inputs[0])
+    links.new(band.outputs[0], away.inputs[0])
+    links.new(near.outputs[0], both.inputs[0])
+    links.new(away.outputs[0], both.inputs[1])
+    return both.outputs[0]
 
 
 def _build_group(group, material):

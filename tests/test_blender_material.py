@@ -15,7 +15,9 @@ What is checked, and how:
   side, written as the attribute, dark pixels occur only within 1.5 pixels
   of a multiple of the spacing, every isoline is drawn along its whole
   length, and its width in pixels is the same for every isoline, on a mesh of
-  4 vertices or 4,225, and when the camera zooms in;
+  4 vertices or 4,225, and when the camera zooms in; the fallback for Blender
+  before 4.4 (no Bump *Filter Width*, forced here) darkens exactly the pixels
+  within 4% of the spacing of a nonzero multiple;
 - the measure is not affected: the modifier changes no vertices, so it is
   never named among the skipped modifiers;
 - the legend sub-panel: range, spacing and the material's ColorRamp.
@@ -355,6 +357,23 @@ def test_rendered_isolines_of_the_distance_from_a_corner(addon, tmp_path):
     r = np.hypot(x, y)
     arc = lambda k: 128 * k * 0.1 * (np.pi / 2 if k * 0.1 <= 1 else np.pi / 2 - 2 * np.arccos(1 / (k * 0.1)))
     check_isolines(dark, r, 0.1, 1 / 128, arc)
+
+
+def test_before_blender_4_4_lines_have_a_width_on_the_surface(addon, tmp_path, monkeypatch):
+    """Without the Bump node's Filter Width: dark exactly where |d - k s| < 0.04 s, k >= 1 (d = x, 4 vertices)."""
+    material = material_module()
+    monkeypatch.setattr(material, "pixel_lines_supported", lambda tree: False)
+    obj, co = square(2)
+    for scale, center in ((1.0, (0.5, 0.5)), (0.5, (0.4, 0.5))):
+        dark = dark_pixels(obj, co[:, 0], 0.12, tmp_path, ortho_scale=scale, center=center)
+        obj.data.attributes.remove(obj.data.attributes["d"])
+        x, _ = pixel_centers(128, scale, center)
+        k = np.round(x / 0.12)
+        off = np.abs(x - 0.12 * k)
+        half = 0.5 * material.SURFACE_LINE_WIDTH * 0.12
+        clear = np.abs(off - half) > 0.05 * scale / 128  # pixel centres not on the line's edge
+        np.testing.assert_array_equal(dark[clear], ((off < half) & (k >= 1))[clear])
+        assert dark.any()
 
 
 # ---------------------------------------------------------------- operator and legend
