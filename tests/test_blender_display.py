@@ -10,7 +10,7 @@ import bmesh
 import bpy
 import numpy as np
 import pytest
-from test_blender import addon, assert_same_snapshot, coords, empty_scene, ico_sphere, loop_triangles, select_only, snapshot
+from test_blender import addon, assert_same_snapshot, attribute, coords, empty_scene, ico_sphere, loop_triangles, select_only, snapshot
 
 import heatcore as hc
 
@@ -75,7 +75,7 @@ def test_new_object_measures_the_mirrored_mesh_and_leaves_the_original_alone(add
     V = coords(copy.data)
     np.testing.assert_allclose(V[result.sources], [[1.0, 0.0, 0.0]], atol=1e-6)  # the selected side's corner
     exact = np.linalg.norm(V - [1.0, 0.0, 0.0], axis=1)
-    d = addon.adapters.read_float_attribute(copy.data, "d")
+    d = attribute(copy.data, "d")
     np.testing.assert_allclose(d, result.distance, rtol=1e-6)
     np.testing.assert_allclose(d, hc.geodesic_distance(V, loop_triangles(copy.data), result.sources), rtol=1e-6,
                                atol=1e-9)
