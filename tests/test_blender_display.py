@@ -10,7 +10,17 @@ import bmesh
 import bpy
 import numpy as np
 import pytest
-from test_blender import addon, assert_same_snapshot, attribute, coords, empty_scene, ico_sphere, loop_triangles, select_only, snapshot
+from test_blender import (
+    addon,
+    assert_same_snapshot,
+    attribute,
+    coords,
+    empty_scene,
+    ico_sphere,
+    loop_triangles,
+    select_only,
+    snapshot,
+)
 
 import heatcore as hc
 
