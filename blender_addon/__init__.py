@@ -7,7 +7,9 @@ All numerics live in heatcore; this package only moves data between Blender
 and heatcore.
 
 Modules: ``adapters`` (bpy <-> arrays), ``cache`` (prefactored solvers),
-``api`` (:func:`compute_geodesic_distance` for scripts), ``properties``,
+``api`` (:func:`compute_geodesic_distance` for scripts), ``stages`` (a run's
+stages: prepare, build, finish), ``outputs`` (what a run writes),
+``background`` (the solver build in a worker thread), ``properties``,
 ``operator``, ``panel`` (the sidebar panel and its *Advanced* sub-panel),
 ``menus`` (entries in the Edit Mode, Object Mode and Weight Paint menus; F3
 finds them), ``shape`` (which shape is measured), ``undo`` (active color
@@ -27,6 +29,7 @@ import bpy
 from . import menus, operator, panel, properties, undo
 from .adapters import AddonError
 from .api import GeodesicResult, compute_geodesic_distance
+from .background import BackgroundBuild
 from .cache import SOLVERS
 
 __all__ = ["compute_geodesic_distance", "GeodesicResult", "AddonError", "register", "unregister"]
@@ -48,4 +51,5 @@ def unregister():
     panel.unregister()
     bpy.utils.unregister_class(operator.MESH_OT_heat_geodesic_distance)
     properties.unregister()
+    BackgroundBuild.cancel_running()  # a build still running stops at its next stage; nothing is kept
     SOLVERS.clear()

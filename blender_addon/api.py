@@ -1,7 +1,8 @@
 """Script API: geodesic distance on a Blender mesh object in one call.
 
-The operator is a thin wrapper around :func:`compute_geodesic_distance`, so
-scripts and the button do exactly the same thing.
+The operator is a thin wrapper around the same stages (:mod:`.stages`), so
+scripts and the button do exactly the same thing; the button builds the
+solver in a background thread, a script waits for it.
 
 Examples
 --------
@@ -10,153 +11,28 @@ Examples
 >>> result.max_distance, result.seconds                                       # doctest: +SKIP
 """
 
-import importlib
-import time
 import warnings
-from dataclasses import dataclass
 
-import numpy as np
+from .outputs import DEFAULT_ATTRIBUTE, DEFAULT_COLOR_ATTRIBUTE
+from .stages import (
+    MESH_OPTIONS,
+    GeodesicResult,
+    build_solver,
+    finish_run,
+    options,
+    prepare_run,
+    resolve_sources,
+)
 
-from . import adapters
-from ._heatcore import colormap as colormaps
-from ._heatcore import heatcore
-from .adapters import AddonError
-from .cache import SOLVERS
-from .material import show_isoline_material
-from .shape import evaluated_copy, measured_positions, nearest_vertices
-from .undo import remember_active_color
-
-#: ``heatcore.options``: every option's name, range, default and help (the bundled copy's).
-options = importlib.import_module(heatcore.__name__ + ".options")
-
-DEFAULT_ATTRIBUTE = "geodesic_distance"
-DEFAULT_COLOR_ATTRIBUTE = "geodesic_distance_color"
-
-#: Options that shape the domain (``heatcore.TriangleMesh``), with their defaults;
-#: every other keyword goes to ``heatcore.HeatSolver``.
-MESH_OPTIONS = options.defaults("mesh")
-
-
-@dataclass
-class GeodesicResult:
-    """What one run computed.
-
-    Attributes
-    ----------
-    distance : (n,) float array
-        Distance per vertex in object units (``inf`` where unreachable).
-    sources : (k,) int array
-        The source vertices.
-    max_distance : float
-        Largest finite distance.
-    n_vertices : int
-    seconds : float
-        Wall time of the whole run.
-    solver_seconds : float
-        Time spent building the solver (0 when it came from the cache).
-    cached : bool
-        Whether the prefactored solver was reused.
-    skipped_modifiers : list of str
-        Modifiers left out because they change the vertices (``shape="EVALUATED"``):
-        the distance is measured on the deformed cage of the mesh's own vertices.
-    warnings : list of str
-        What the user should know about this run (also issued as ``UserWarning``).
-    object : bpy.types.Object
-        The object written to: the one given, or its evaluated copy (``new_object=True``).
-    """
-
-    distance: np.ndarray
-    sources: np.ndarray
-    max_distance: float
-    n_vertices: int
-    seconds: float
-    solver_seconds: float
-    cached: bool
-    skipped_modifiers: list
-    warnings: list
-    object: object = None
-
-
-def _no_progress(fraction, message):
-    pass
-
-
-def resolve_sources(obj, sources=None, vertex_group=None, F=None, notes=None):
-    """Source vertex indices: given ones, a vertex group's members, or the selection.
-
-    Vertices no face uses (loose vertices) are dropped when other sources
-    remain, and a note is appended to ``notes``; so is a note when a whole
-    mesh selected in Object Mode (as after adding a primitive) makes every
-    vertex a source.
-
-    Raises
-    ------
-    AddonError
-        No source vertex, only loose ones, or indices outside the mesh.
-    """
-    n = len(obj.data.vertices)
-    if sources is not None:
-        src = np.unique(np.asarray(sources, dtype=np.int64).ravel())
-        what = "the given source list"
-    elif vertex_group:
-        src = adapters.vertex_group_members(obj, vertex_group)
-        what = f"vertex group {vertex_group!r}"
-    else:
-        src = adapters.selected_vertices(obj.data)
-        what = "the selection"
-    if src.size == 0:
-        hint = (
-            "select one or more vertices in Edit Mode"
-            if sources is None and not vertex_group
-            else "give at least one vertex"
-        )
-        raise AddonError(f"no source vertices: {what} of {obj.name!r} is empty; {hint}")
-    try:
-        src = options.check_source_vertices(src, n)
-    except heatcore.InvalidSourceError as exc:
-        raise AddonError(str(exc)) from None
-    notes = [] if notes is None else notes
-    if F is not None and F.size:
-        loose = np.bincount(F.ravel(), minlength=n)[src] == 0
-        if loose.all():
-            raise AddonError(f"no source vertices: {what} of {obj.name!r} holds only vertices no face uses "
-                             f"({_listed(src)}); select vertices of the surface")
-        if loose.any():
-            notes.append(f"{loose.sum():,} of the sources are loose vertices (no face uses them: "
-                         f"{_listed(src[loose])}); measured from the other {(~loose).sum():,}")
-            src = src[~loose]
-    if sources is None and not vertex_group and obj.mode == "OBJECT" and src.size == n > 1:
-        notes.append(f"all {n:,} vertices of {obj.name!r} are selected (as after adding a primitive), so every "
-                     "vertex is a source and every distance is 0; select the sources in Edit Mode")
-    return src
-
-
-def _listed(indices, shown=5):
-    text = ", ".join(str(i) for i in indices[:shown])
-    return text + (f" and {len(indices) - shown:,} more" if len(indices) > shown else "")
-
-
-def _check_isoline_options(attribute, spacing, width):
-    """The isoline material reads the distance attribute: it must be written; spacing >= 0, width > 0."""
-    if attribute is None:
-        raise AddonError("isoline_material=True draws the distance attribute: give an attribute name, not None")
-    if not (np.isfinite(spacing) and spacing >= 0):
-        raise AddonError(f"isoline_spacing must be 0 (from the isoline count) or a positive distance, got {spacing}")
-    if not (np.isfinite(width) and width > 0):
-        raise AddonError(f"isoline_width must be a positive number of pixels, got {width}")
-
-
-def _renamed(solver_options):
-    """``time_factor=`` (the add-on's old name of ``m``) as ``m=``, with a DeprecationWarning."""
-    if "time_factor" not in solver_options:
-        return dict(solver_options)
-    solver_options = dict(solver_options)
-    value = solver_options.pop("time_factor")
-    if "m" in solver_options:
-        raise AddonError("give m= only: time_factor= is its deprecated name")
-    warnings.warn("time_factor= is deprecated; use m= (heatcore's name of the heat time factor)",
-                  DeprecationWarning, stacklevel=3)
-    return {**solver_options, "m": value}
+__all__ = [
+    "DEFAULT_ATTRIBUTE",
+    "DEFAULT_COLOR_ATTRIBUTE",
+    "MESH_OPTIONS",
+    "GeodesicResult",
+    "compute_geodesic_distance",
+    "options",
+    "resolve_sources",
+]
 
 
 def compute_geodesic_distance(
@@ -239,7 +115,9 @@ def compute_geodesic_distance(
         Width of the material's isolines in screen pixels, at any zoom (a
         line is 0.7 to 1 times it wide, by its direction on screen).
     progress : callable, optional
-        ``progress(fraction, message)`` called between stages.
+        ``progress(fraction, message)`` at each stage: reading the mesh, each
+        stage of the solver build (heatcore's, see ``heatcore.progress``),
+        solving, writing. It may raise to abort: nothing is written then.
     **solver_options
         ``robust``, ``refine`` and ``weld`` go to :class:`heatcore.TriangleMesh`;
         all others (``m``, ``boundary``, ``accuracy``, ``backend``, ...) to
@@ -260,96 +138,14 @@ def compute_geodesic_distance(
         Invalid options or geometry (for example a source on a loose vertex).
         Nothing is modified.
     """
-    start = time.perf_counter()
-    progress = progress or _no_progress
-    if obj is None or obj.type != "MESH":
-        raise AddonError(f"{getattr(obj, 'name', obj)!r} is not a mesh object")
-    mesh = obj.data
-    try:
-        colormap = options.check("colormap", colormap)
-    except heatcore.InvalidOptionError as exc:
-        raise AddonError(str(exc)) from None
-    isolines = options.check("isolines", isolines)
-    solver_options = options.check_all(_renamed(solver_options))
-    for name, data_type in ((attribute, "FLOAT"), (color_attribute, "FLOAT_COLOR")):
-        if name is not None:
-            adapters.check_attribute_free(mesh, name, "POINT", data_type)
-    if isoline_material:
-        _check_isoline_options(attribute, isoline_spacing, isoline_width)
-
-    progress(0.05, "reading mesh")
-    if obj.mode == "EDIT":
-        obj.update_from_editmode()
-    if len(mesh.vertices) == 0:
-        raise AddonError(f"mesh {mesh.name!r} has no vertices")
-    notes = []
-    _, F = adapters.mesh_arrays(mesh)
-    src = resolve_sources(obj, sources, vertex_group, F, notes)
-    if new_object:
-        if shape != "EVALUATED":
-            raise AddonError("new_object=True measures the evaluated mesh: it needs shape='EVALUATED'")
-        cage, _ = measured_positions(obj, "LOCAL", "EVALUATED")
-        obj = evaluated_copy(obj)
-        mesh, shape = obj.data, "BASIS"
-        src = np.unique(nearest_vertices(obj, cage[src]))
-        _, F = adapters.mesh_arrays(mesh)
-    V, skipped = measured_positions(obj, space, shape)
-    if skipped:
-        notes.append(f"{obj.name}: distance measured without the modifiers that change its vertices "
-                     f"({', '.join(skipped)}), on the deformed cage of its own vertices")
-    for note in notes:
-        warnings.warn(note, stacklevel=2)
-
-    mesh_options = {k: solver_options.pop(k, default) for k, default in MESH_OPTIONS.items()}
-    if not F.shape[0]:  # a point cloud takes refine only
-        mesh_options = {"refine": mesh_options["refine"]}
-    solver_seconds = 0.0
-
-    def build():
-        nonlocal solver_seconds
-        progress(0.1, f"building the heat solver for {len(V):,} vertices")
-        t0 = time.perf_counter()
-        if F.shape[0]:
-            domain = heatcore.TriangleMesh(V, F, **mesh_options)
-        else:  # vertices only: a point cloud
-            domain = heatcore.PointCloud(V, **mesh_options)
-        solver = heatcore.HeatSolver(domain, **solver_options)
-        solver_seconds = time.perf_counter() - t0
-        return solver
-
-    solver, cached = SOLVERS.get(mesh.name_full if new_object else mesh.session_uid, V, F, {**mesh_options, **solver_options}, build)
-    progress(0.8, "solving for the distance")
-    d = solver.distance(src)
-    finite = np.isfinite(d)
-    dmax = float(d[finite].max()) if finite.any() else 0.0
-    scale = 1.0 / dmax if (normalize and dmax > 0) else 1.0
-
-    progress(0.9, "writing attributes")
-    with adapters.object_mode(obj):
-        if attribute is not None:
-            adapters.write_float_attribute(mesh, attribute, np.where(finite, d * scale, adapters.UNREACHABLE_VALUE))
-        if color_attribute is not None:
-            remember_active_color(mesh, color_attribute)
-            rgb = colormaps.colorize(d, colormap=colormap, isolines=int(isolines))
-            adapters.write_color_attribute(mesh, color_attribute, rgb)
-        if weight_group:
-            weights = np.where(finite, d / dmax if dmax > 0 else 0.0, np.nan)
-            adapters.write_vertex_group(obj, weight_group, np.clip(weights, 0.0, 1.0))
-        mesh.update()
-    if isoline_material:
-        spacing = isoline_spacing or (dmax / isolines if isolines else 0.0)
-        show_isoline_material(obj, attribute, colormap=colormap, max_distance=dmax, spacing=spacing,
-                              attribute_scale=1.0 / scale, line_width=isoline_width, space=space)
-    progress(1.0, "done")
-    return GeodesicResult(
-        distance=d,
-        sources=src,
-        max_distance=dmax,
-        n_vertices=len(V),
-        seconds=time.perf_counter() - start,
-        solver_seconds=solver_seconds,
-        cached=cached,
-        skipped_modifiers=skipped,
-        warnings=notes,
-        object=obj,
+    run = prepare_run(
+        obj, sources, vertex_group=vertex_group, space=space, shape=shape, new_object=new_object, progress=progress,
+        attribute=attribute, color_attribute=color_attribute, colormap=colormap, isolines=isolines,
+        normalize=normalize, weight_group=weight_group, isoline_material=isoline_material,
+        isoline_spacing=isoline_spacing, isoline_width=isoline_width, **solver_options,
     )
+    for note in run.notes:
+        warnings.warn(note, stacklevel=2)
+    if run.solver is None:
+        build_solver(run, progress)
+    return finish_run(run, progress, obj)

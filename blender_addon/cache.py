@@ -8,10 +8,17 @@ of the vertex positions and triangles themselves, so every geometry edit
 (moving, adding or removing vertices, changing faces, undo) invalidates it,
 whatever made the edit.
 
+The cache is used from the main thread only: a solver built in a background
+thread is stored when the main thread takes the result (``store``); a build
+that is cancelled or fails stores nothing, and the mesh's stale solver was
+dropped before it began (``discard``), so no half-built or stale solver stays.
+
 Examples
 --------
 >>> cache = SolverCache()
 >>> solver, hit = cache.get(mesh_id, V, F, {"m": 1.0}, build)   # doctest: +SKIP
+>>> key = geometry_key(V, F, {"m": 1.0})                        # doctest: +SKIP
+>>> cache.lookup(mesh_id, key) is solver                        # doctest: +SKIP
 """
 
 import atexit
@@ -46,8 +53,27 @@ class SolverCache:
         self.max_meshes = max_meshes
         self._entries = OrderedDict()  # mesh id -> (key, solver)
 
+    def lookup(self, mesh_id, key):
+        """The solver cached for ``mesh_id`` under ``key`` (then the most recently used), or None."""
+        entry = self._entries.get(mesh_id)
+        if entry is None or entry[0] != key:
+            return None
+        self._entries.move_to_end(mesh_id)
+        return entry[1]
+
+    def store(self, mesh_id, key, solver):
+        """Keep ``solver`` as the mesh's solver for ``key`` (replacing its previous one), dropping the oldest mesh's if full."""
+        self._entries.pop(mesh_id, None)
+        self._entries[mesh_id] = (key, solver)
+        while len(self._entries) > self.max_meshes:
+            self._entries.popitem(last=False)
+
+    def discard(self, mesh_id):
+        """Drop the mesh's solver (stale: free its memory before a new one is built)."""
+        self._entries.pop(mesh_id, None)
+
     def get(self, mesh_id, V, F, options, build):
-        """The solver for this geometry and options: cached, or made by ``build()``.
+        """The solver for this geometry and options: cached, or made by ``build()`` and kept.
 
         Parameters
         ----------
@@ -58,7 +84,8 @@ class SolverCache:
         options : dict
             Every option that changes the solver.
         build : callable
-            Makes the solver when the cache has none for this key.
+            Makes the solver when the cache has none for this key. If it
+            raises (a cancelled build, say), nothing is kept for the mesh.
 
         Returns
         -------
@@ -66,16 +93,16 @@ class SolverCache:
             ``cached`` is True when the solver was reused.
         """
         key = geometry_key(V, F, options)
-        entry = self._entries.get(mesh_id)
-        if entry is not None and entry[0] == key:
-            self._entries.move_to_end(mesh_id)
-            return entry[1], True
-        self._entries.pop(mesh_id, None)  # free the stale solver before building
+        solver = self.lookup(mesh_id, key)
+        if solver is not None:
+            return solver, True
+        self.discard(mesh_id)  # free the stale solver before building
         solver = build()
-        self._entries[mesh_id] = (key, solver)
-        while len(self._entries) > self.max_meshes:
-            self._entries.popitem(last=False)
+        self.store(mesh_id, key, solver)
         return solver, False
+
+    def __contains__(self, mesh_id):
+        return mesh_id in self._entries
 
     def clear(self):
         """Drop every cached solver."""

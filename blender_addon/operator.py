@@ -1,8 +1,19 @@
 """Operator ``mesh.heat_geodesic_distance``: the button, and ``bpy.ops`` for scripts.
 
-Runs :func:`compute_geodesic_distance` on the active object with progress
-feedback, reports the result (or a clear error, leaving the mesh untouched)
-and shows the color attribute in the viewport.
+From the button (``invoke`` with a window) a solver that is not cached is
+built in a background thread (:class:`~.background.BackgroundBuild`) while a
+modal timer shows its stages: the status bar and the 3D View header say what
+runs and how far it is, the window manager's progress indicator follows, the
+UI stays usable, and Esc cancels (nothing is written). The query and the
+writes then run on the main thread, as one undo step. A second click while a
+build runs is refused with a message. A cached solver, ``execute`` (scripts,
+*Adjust Last Operation*) and background Blender (``bpy.app.background``) run
+synchronously, as :func:`~.api.compute_geodesic_distance` does.
+
+Examples
+--------
+>>> bpy.ops.mesh.heat_geodesic_distance(isolines=8)                   # doctest: +SKIP
+>>> bpy.ops.mesh.heat_geodesic_distance("INVOKE_DEFAULT")             # doctest: +SKIP
 """
 
 import bpy
@@ -10,7 +21,14 @@ import bpy
 from ._heatcore import heatcore
 from .adapters import AddonError
 from .api import compute_geodesic_distance
+from .background import CANCELLED, FAILED, RUNNING, BackgroundBuild, Busy
 from .properties import GeodesicOptions
+from .stages import BUILD_RANGE, build_solver, check_unchanged, finish_run, prepare_run
+
+#: Seconds between two looks at a background build (the modal timer).
+TIMER_STEP = 0.1
+#: Errors reported as messages (anything else is a bug: it propagates, with its traceback).
+REPORTED_ERRORS = (AddonError, heatcore.HeatcoreError, MemoryError)
 
 
 def _status(context, text):
@@ -27,6 +45,149 @@ def show_color_attribute(context):
             shading = area.spaces.active.shading
             if shading.type == "SOLID":
                 shading.color_type = "VERTEX"  # "Attribute" in the UI
+
+
+def report_result(context, result, report, obj):
+    """Statistics for the panel, attribute colors in the viewport, and the INFO (and WARNING) reports of a run on ``obj``."""
+    stats = context.window_manager.heat_geodesic_stats
+    stats.valid = True
+    stats.object_name = result.object.name
+    stats.vertices = result.n_vertices
+    stats.sources = result.sources.size
+    stats.max_distance = result.max_distance
+    stats.seconds = result.seconds
+    stats.solver_seconds = result.solver_seconds
+    stats.cached = result.cached
+    show_color_attribute(context)
+    for note in result.warnings:
+        report({"WARNING"}, note)
+    how = "cached solver" if result.cached else f"solver built in {result.solver_seconds:.2f} s"
+    where = f" (written to {result.object.name!r})" if result.object != obj else ""
+    report(
+        {"INFO"},
+        f"Geodesic distance on {result.n_vertices:,} vertices{where} from {result.sources.size:,} sources: "
+        f"max {result.max_distance:.4g}, {result.seconds:.2f} s ({how})",
+    )
+    return {"FINISHED"}
+
+
+class BuildDisplay:
+    """What a background build shows while it runs, and takes down in :meth:`end` (idempotent).
+
+    The modal timer, the window manager's progress indicator, the status bar
+    text and the header text of the area the operator was started from.
+    Every call is guarded: an area or window closed meanwhile is skipped.
+    """
+
+    def __init__(self, context):
+        self.wm = context.window_manager
+        self.window = context.window
+        self.workspace = getattr(context, "workspace", None)
+        self.area = getattr(context, "area", None)
+        self.timer = self.wm.event_timer_add(TIMER_STEP, window=self.window)
+        self.wm.progress_begin(0, 100)
+        self.ended = False
+
+    @staticmethod
+    def _try(call, *args):
+        try:
+            call(*args)
+        except ReferenceError:  # the area, window or workspace was closed meanwhile
+            pass
+
+    def show(self, fraction, message):
+        """Progress and ``message`` in the status bar and the header."""
+        percent = int(100 * fraction)
+        self._try(self.wm.progress_update, percent)
+        text = f"Geodesic distance: {message} ({percent}%), Esc to cancel"
+        if self.workspace is not None:
+            self._try(self.workspace.status_text_set, text)
+        if self.area is not None:
+            self._try(self.area.header_text_set, text)
+
+    def end(self):
+        """Remove the timer, end the progress indicator, restore the status bar and the header."""
+        if self.ended:
+            return
+        self.ended = True
+        self._try(self.wm.event_timer_remove, self.timer)
+        self._try(self.wm.progress_end)
+        if self.workspace is not None:
+            self._try(self.workspace.status_text_set, None)
+        if self.area is not None:
+            self._try(self.area.header_text_set, None)
+            self._try(self.area.tag_redraw)
+
+
+class ModalRun:
+    """One click whose solver is built in the background: the modal operator's logic, without the operator.
+
+    Parameters
+    ----------
+    run : PreparedRun
+        From :func:`~.stages.prepare_run` (its solver not cached).
+    display : BuildDisplay or an object with ``show(fraction, message)`` and ``end()``
+    report : callable
+        ``report(type, message)``, as ``Operator.report``.
+    """
+
+    def __init__(self, run, display, report):
+        self.run = run
+        self.display = display
+        self.report = report
+        label = f"the heat solver of {run.object_name!r} ({len(run.V):,} vertices)"
+        self.build = BackgroundBuild(lambda progress: build_solver(run, progress), label)
+        self.finishing = False
+        self.result = None  # the GeodesicResult once written
+
+    def start(self):
+        """Start the worker (raises :class:`~.background.Busy` while another build runs)."""
+        self.build.start()
+        self.display.show(*self.build.progress())
+
+    def handle(self, context, event_type, event_value="NOTHING"):
+        """Handle one event: the operator's ``modal`` result set.
+
+        Esc cancels; a timer event polls the build and, once it is done,
+        says so, and at the next timer event checks that the object is
+        unchanged, queries and writes the result (on the main thread: the
+        message is on screen while it runs); every other event passes
+        through to the rest of Blender.
+        """
+        if event_type == "ESC" and event_value == "PRESS":
+            return self.cancel(f"Geodesic distance cancelled at: {self.build.message}; nothing was written")
+        if event_type != "TIMER":
+            return {"PASS_THROUGH"}
+        state = self.build.poll()
+        if state == RUNNING:
+            self.display.show(*self.build.progress())
+            return {"PASS_THROUGH"}
+        if state != CANCELLED and not self.finishing:
+            self.finishing = True
+            self.display.show(BUILD_RANGE[1], "solving for the distance and writing the attributes")
+            return {"PASS_THROUGH"}
+        try:
+            if state == CANCELLED:
+                return {"CANCELLED"}
+            try:
+                if state == FAILED:
+                    self.build.result()  # raises the worker's error
+                obj = check_unchanged(self.run)
+                result = self.result = finish_run(self.run, obj=obj)
+            except REPORTED_ERRORS as exc:
+                self.report({"ERROR"}, str(exc) or type(exc).__name__)
+                return {"CANCELLED"}
+        finally:
+            self.display.end()
+        return report_result(context, result, self.report, obj)
+
+    def cancel(self, message=None):
+        """Cancel the build (the worker stops at its next stage), take the display down: ``{"CANCELLED"}``."""
+        self.build.cancel()
+        self.display.end()
+        if message:
+            self.report({"WARNING"}, message)
+        return {"CANCELLED"}
 
 
 class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
@@ -53,7 +214,38 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
         for name in GeodesicOptions.__annotations__:
             if not self.properties.is_property_set(name):
                 setattr(self, name, getattr(settings, name))
-        return self.execute(context)
+        if bpy.app.background or context.window is None:
+            return self.execute(context)
+        running = BackgroundBuild.running()
+        if running is not None:
+            self.report({"WARNING"}, f"Geodesic distance: {running.busy_message()}")
+            return {"CANCELLED"}
+        try:
+            run = prepare_run(context.active_object, **self.call_options())
+            if run.solver is not None:  # cached: only the query is left, no thread needed
+                obj = context.active_object
+                return report_result(context, finish_run(run, obj=obj), self.report, obj)
+        except REPORTED_ERRORS as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        self._modal = ModalRun(run, BuildDisplay(context), self.report)
+        try:
+            self._modal.start()
+        except Busy as exc:  # pragma: no cover - checked above; another build started in between
+            self._modal.display.end()
+            self.report({"WARNING"}, f"Geodesic distance: {exc}")
+            return {"CANCELLED"}
+        context.window_manager.modal_handler_add(self)
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        return self._modal.handle(context, event.type, event.value)
+
+    def cancel(self, context):
+        # Blender ends the operator without an event (a file is loaded, the window closes).
+        modal = getattr(self, "_modal", None)
+        if modal is not None:
+            modal.cancel()
 
     def execute(self, context):
         obj = context.active_object
@@ -72,24 +264,4 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
         finally:
             wm.progress_end()
             _status(context, None)
-
-        stats = wm.heat_geodesic_stats
-        stats.valid = True
-        stats.object_name = result.object.name
-        stats.vertices = result.n_vertices
-        stats.sources = result.sources.size
-        stats.max_distance = result.max_distance
-        stats.seconds = result.seconds
-        stats.solver_seconds = result.solver_seconds
-        stats.cached = result.cached
-        show_color_attribute(context)
-        for note in result.warnings:
-            self.report({"WARNING"}, note)
-        how = "cached solver" if result.cached else f"solver built in {result.solver_seconds:.2f} s"
-        where = f" (written to {result.object.name!r})" if result.object != obj else ""
-        self.report(
-            {"INFO"},
-            f"Geodesic distance on {result.n_vertices:,} vertices{where} from {result.sources.size:,} sources: "
-            f"max {result.max_distance:.4g}, {result.seconds:.2f} s ({how})",
-        )
-        return {"FINISHED"}
+        return report_result(context, result, self.report, obj)

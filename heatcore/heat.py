@@ -45,6 +45,7 @@ from .linalg import (
     start_nested_dissection,
 )
 from .options import check
+from .progress import Progress
 from .steps.blocks import block_columns, source_sequence
 from .steps.poisson import MAX_PRECOMPUTED_PINS, PinnedPoisson, grounded
 from .steps.time_step import underflow_safe_m
@@ -78,6 +79,9 @@ class HeatSolver:
         meshes only.
     backend : {"auto", "supernodal", "qdldl", "cholmod", "superlu"}
         Sparse factorization backend (see :mod:`heatcore.linalg`).
+    progress : callable, optional
+        ``progress(fraction, message)`` at the start of each stage (connected components, each
+        factorization) and with 1.0 at the end; it may raise to abort (:mod:`heatcore.progress`).
 
     Each connected component gets its own time step ``t = m h^2`` from its
     own mean edge length ``h`` (and its own underflow guard), so a part's
@@ -112,13 +116,15 @@ class HeatSolver:
     >>> d0, d1 = solver.distance([0]), solver.distance([10, 20])
     """
 
-    def __init__(self, domain, *, m=1.0, boundary="robin", accuracy="smooth", backend="auto"):
+    def __init__(self, domain, *, m=1.0, boundary="robin", accuracy="smooth", backend="auto", progress=None):
         m, boundary, accuracy, backend = (check(k, v) for k, v in zip(OPTION_NAMES, (m, boundary, accuracy, backend)))
         if accuracy == "high" and not domain.supports_high_accuracy:
             raise InvalidOptionError(f"accuracy='high' is available on triangle meshes, not on {type(domain).__name__}")
         self.accuracy = accuracy
         self.domain = domain
         self.m = float(m)
+        progress = Progress(progress)
+        progress(0.0, "connected components")
         ops = self.ops = domain.operators
         self.timings = {}
         start = time.perf_counter()
@@ -143,13 +149,8 @@ class HeatSolver:
         self.part_m = np.maximum(self.m, underflow_safe_m(hops))
         self.m_effective = float(self.part_m.max())
         if self.m_effective > self.m:
-            log.info(
-                "mesh is %d edge hops across: time factor raised from m=%g to m=%.3g so that the heat "
-                "stays above double-precision underflow everywhere",
-                self.hop_diameter,
-                self.m,
-                self.m_effective,
-            )
+            log.info("mesh is %d edge hops across: time factor raised from m=%g to m=%.3g so that the heat stays "
+                     "above double-precision underflow everywhere", self.hop_diameter, self.m, self.m_effective)
         ground = first_of_each(self.component, self.n_components)
         self._ground = ground
         h = np.broadcast_to(ops.mean_edge_length, (n,))
@@ -158,10 +159,11 @@ class HeatSolver:
         self._element_h = h[0] if (h == h[0]).all() else h[ops.elements[:, 0]]
         self.t = np.ldexp(step[ground], 2 * np.broadcast_to(ops.unit_exponent, (n,))[ground])
         self._gradient_transposed = ops.gradient.T  # a view: -div X = G^T (volumes * X)
-        self._factor_heat(self._resolve(backend, "factor"))
+        self._factor_heat(self._resolve(backend, "factor"), progress.part(0.05, 0.7))
         self.timings["heat factorization"] = time.perf_counter() - start
 
         start = time.perf_counter()
+        progress(0.7, "factoring the Poisson matrix")
         # The Poisson factorization is kept for every query, so it is made for fast solves.
         if ("poisson", backend) not in self._domain_cache:
             K = grounded(self._laplacian, ground)
@@ -174,15 +176,9 @@ class HeatSolver:
         for key, ordering in self._domain_cache.items():
             if isinstance(ordering, Ordering):
                 ordering.forget_pattern()  # its memory matters more than re-converting for another m
-        log.info(
-            "heat solver ready: %d operator vertices, %d components, t=%.3g..%.3g, boundary=%s (%.2f s)",
-            n,
-            self.n_components,
-            self.t.min(),
-            self.t.max(),
-            self.boundary,
-            sum(self.timings.values()),
-        )
+        log.info("heat solver ready: %d operator vertices, %d components, t=%.3g..%.3g, boundary=%s (%.2f s)", n,
+                 self.n_components, self.t.min(), self.t.max(), self.boundary, sum(self.timings.values()))
+        progress(1.0, "heat solver ready")
 
     def distance(self, vertices=None, **sources):
         """Geodesic distance from the given sources to every input vertex.
@@ -378,7 +374,7 @@ class HeatSolver:
         """``-grad u / |grad u|`` per element, 0 where the gradient vanishes or is not finite (see :mod:`heatcore.steps.unit_field`)."""
         return unit_field(self.ops, u, 1.0, self._element_h)
 
-    def _factor_heat(self, backend):
+    def _factor_heat(self, backend, progress):
         """Factor ``M + t L`` for the boundary condition (Neumann, interior-only Dirichlet, or both)."""
         ops = self.ops
         step = self._time_step
@@ -387,10 +383,12 @@ class HeatSolver:
         if self.boundary in ("robin", "dirichlet"):
             self._interior = np.flatnonzero(~ops.boundary)
             if self._interior.size:
+                progress(0.0, "factoring the heat matrix (interior vertices, for the Dirichlet condition)")
                 ordering = restrict_ordering(self._ordering(backend), self._interior)
                 interior_matrix = heat_matrix[self._interior][:, self._interior]
                 self._heat_dirichlet = factor(interior_matrix, backend, ordering=ordering)
         # Neumann: the condition itself, half of Robin, or the fallback where Dirichlet sees no heat.
+        progress(0.0 if self._heat_dirichlet is None else 0.5, "factoring the heat matrix")
         self._heat_neumann = factor(heat_matrix, backend, ordering=self._ordering(backend))
 
     def _resolve(self, backend, prefer):

@@ -17,7 +17,7 @@ never up and never sideways to a sibling group):
     solver       heat.py, eikonal.py, reference.py
     domains      domains/
     linalg       linalg/ (knows no geometry)
-    foundation   errors.py, options.py
+    foundation   errors.py, options.py, progress.py
 
 plus fences: domains import no linalg backend (only the ``linalg.factor``
 interface), and ``ctypes`` is imported only under ``heatcore/linalg/``.
@@ -57,8 +57,8 @@ ROOTS = ("heatcore", "blender_addon")
 # siblings: neither imports the other. The flat names of the layout before 0d3c9d9 are listed
 # too, so that an old revision is judged by the same rules.
 LAYERS = [
-    ("foundation", [("foundation", "errors and options: what every layer may raise or declare",
-                     ["heatcore.errors", "heatcore.options", "heatcore.options.*"])]),
+    ("foundation", [("foundation", "errors, options and progress: what every layer may raise, declare or report",
+                     ["heatcore.errors", "heatcore.options", "heatcore.options.*", "heatcore.progress"])]),
     ("linalg", [("linalg", "sparse SPD factorizations, orderings; no geometry",
                  ["heatcore.linalg", "heatcore.linalg.*", "heatcore.sparse_rhs"])]),
     ("domains", [("domains", "what the heat method runs on: operators and source pins",

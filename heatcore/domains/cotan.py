@@ -36,6 +36,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import InvalidMeshError
+from ..progress import Progress
 from .intrinsic import (
     NEXT,
     PREV,
@@ -139,7 +140,8 @@ class IntrinsicOperators(NamedTuple):
 
 
 def intrinsic_operators(
-    V, F, edges, side_edge, *, part=None, n_parts=1, cover=None, rim=None, flip=True, thin_slack=None, unit_exponent=0
+    V, F, edges, side_edge, *, part=None, n_parts=1, cover=None, rim=None, flip=True, thin_slack=None, unit_exponent=0,
+    progress=None,
 ):
     """Cotan operators of a triangle mesh, on its mollified intrinsic Delaunay triangulation.
 
@@ -183,6 +185,8 @@ def intrinsic_operators(
         slack (a strip far thinner than its length, which no flip mends).
     unit_exponent : int or (n_parts,) int array, default 0
         Each part's length unit (see :class:`~heatcore.domains.operators.Operators`).
+    progress : callable, optional
+        ``progress(fraction, message)`` at each stage (see :mod:`heatcore.progress`).
 
     Returns
     -------
@@ -207,6 +211,8 @@ def intrinsic_operators(
     >>> intrinsic_operators(V, F, *unique_edges(F)).n_flips
     1
     """
+    progress = Progress(progress)
+    progress(0.0, "intrinsic Delaunay flips" if flip else "mollifying the triangles")
     n = V.shape[0]
     edge_faces = np.bincount(side_edge.ravel(), minlength=edges.shape[0])
     open_edges = edges[edge_faces == 1]
@@ -259,5 +265,6 @@ def intrinsic_operators(
             delta = np.where(least < thin_slack, thin_slack, MOLLIFY_SLACK)
             tri, eps, n_flips = triangulate(delta if face_part is not None else float(delta[0]))
     tri.lengths *= face_h
+    progress(0.6, "cotan Laplacian, mass and gradient")
     ops = triangle_operators(tri.lengths, tri.faces, n, boundary, vertex_h, unit_exponent)
     return IntrinsicOperators(ops, tri, n_flips, eps, h, thin_parts)

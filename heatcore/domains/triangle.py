@@ -24,6 +24,7 @@ from ..errors import (
     InvalidSourceError,
 )
 from ..options import check
+from ..progress import Progress
 from .base import MeshDomain
 from .cotan import intrinsic_operators
 from .intrinsic import face_edge_lengths
@@ -74,6 +75,11 @@ class TriangleMesh(MeshDomain):
         only vertices at exactly the same position), as STL files (triangle
         soup) and OBJ files with texture seams need. ``None`` keeps every
         vertex apart. Distances are still reported at every input vertex.
+    progress : callable, optional
+        ``progress(fraction, message)`` at the start of each stage of the
+        build (welding, connected parts, refinement, intrinsic Delaunay flips,
+        operators) and with 1.0 at the end; it may raise to abort the build
+        (see :mod:`heatcore.progress`). Default: silent.
 
     Each connected part is solved as if it were alone: its own refinement
     level, time step, mollification and length unit (:mod:`heatcore.domains.parts`),
@@ -127,12 +133,14 @@ class TriangleMesh(MeshDomain):
     source_kinds = ("vertices", "edges", "region", "points")
     supports_high_accuracy = True
 
-    def __init__(self, V, F, *, robust=True, refine="auto", weld=0.0):
+    def __init__(self, V, F, *, robust=True, refine="auto", weld=0.0, progress=None):
         self.vertices, self.faces = mesh_arrays(V, F)
         refine = check("refine", refine)
         tolerance = weld_tolerance(weld)
         self.robust = check("robust", robust)
+        progress = Progress(progress)
         n = self.vertices.shape[0]
+        progress(0.0, "welding coincident vertices" if tolerance is not None else "reading the triangles")
         representative, self.n_welded = weld_map(self.vertices, tolerance) if tolerance is not None else (None, 0)
         faces = self.faces if representative is None else representative[self.faces]
         kept = clean_elements(faces)
@@ -141,6 +149,7 @@ class TriangleMesh(MeshDomain):
             raise InvalidMeshError(
                 f"every face has a repeated vertex{welded}: all edges have zero length, the mesh has no area"
             )
+        progress(0.1, "finding connected parts")
         used = np.unique(faces[kept])
         compact = np.full(n, -1, dtype=np.int64)
         compact[used] = np.arange(used.size)
@@ -169,10 +178,13 @@ class TriangleMesh(MeshDomain):
         self.unit_exponent = unit_exponents(V_used, part, self.n_parts)
         self._input_part = part
         face_levels = self.part_levels[part[F_used[:, 0]]]
+        levels = f"{self.levels} level{'s' * (self.levels > 1)}"
+        progress(0.2, f"midpoint subdivision ({levels})" if self.levels else "listing the edges")
         self.subdivision = midpoint_subdivide(in_part_units(V_used, part, self.unit_exponent), F_used, face_levels)
-        self.operators = self._build_operators(self.subdivision.carry(part, F_used))
+        self.operators = self._build_operators(self.subdivision.carry(part, F_used), progress.part(0.4, 1.0))
+        progress(1.0, "triangle mesh ready")
 
-    def _build_operators(self, part):
+    def _build_operators(self, part, progress=None):
         sub = self.subdivision
         robust = self.robust
         built = intrinsic_operators(
@@ -185,6 +197,7 @@ class TriangleMesh(MeshDomain):
             flip=robust,
             thin_slack=THIN_TRIANGLE_SLACK if robust else None,
             unit_exponent=self.unit_exponent,
+            progress=progress,
         )
         self.n_flips, self.thin_parts, self.intrinsic = built.n_flips, built.thin_parts, built.intrinsic
         self.mollification = np.ldexp(built.eps * built.h, self.unit_exponent)

@@ -1,0 +1,121 @@
+"""What a run writes: the output options, checked before any work and written after the query.
+
+:func:`check_outputs` runs first (nothing is computed when an output name is
+taken or an option is wrong); :func:`write_outputs` runs on the main thread
+once the distance is known. Their keywords are the output options of
+:func:`~.api.compute_geodesic_distance` (``OUTPUT_NAMES``).
+
+Examples
+--------
+>>> outputs = check_outputs(obj.data, isolines=10)      # doctest: +SKIP
+>>> dmax = write_outputs(obj, distance, "WORLD", **outputs)   # doctest: +SKIP
+"""
+
+import importlib
+import inspect
+
+import numpy as np
+
+from . import adapters
+from ._heatcore import colormap as colormaps
+from ._heatcore import heatcore
+from .adapters import AddonError
+from .material import show_isoline_material
+from .undo import remember_active_color
+
+#: ``heatcore.options`` (the bundled copy's).
+options = importlib.import_module(heatcore.__name__ + ".options")
+
+DEFAULT_ATTRIBUTE = "geodesic_distance"
+DEFAULT_COLOR_ATTRIBUTE = "geodesic_distance_color"
+
+
+def check_outputs(
+    mesh,
+    *,
+    attribute=DEFAULT_ATTRIBUTE,
+    color_attribute=DEFAULT_COLOR_ATTRIBUTE,
+    colormap="viridis",
+    isolines=0,
+    normalize=False,
+    weight_group=None,
+    isoline_material=False,
+    isoline_spacing=0.0,
+    isoline_width=1.5,
+):
+    """The output options checked (before any work), as keywords of :func:`write_outputs`.
+
+    Raises
+    ------
+    AddonError
+        An unknown colormap, an output name taken by another kind of
+        attribute, or isoline options the material cannot draw.
+    """
+    try:
+        colormap = options.check("colormap", colormap)
+    except heatcore.InvalidOptionError as exc:
+        raise AddonError(str(exc)) from None
+    isolines = options.check("isolines", isolines)
+    for name, data_type in ((attribute, "FLOAT"), (color_attribute, "FLOAT_COLOR")):
+        if name is not None:
+            adapters.check_attribute_free(mesh, name, "POINT", data_type)
+    if isoline_material:
+        _check_isoline_options(attribute, isoline_spacing, isoline_width)
+    return {
+        "attribute": attribute,
+        "color_attribute": color_attribute,
+        "colormap": colormap,
+        "isolines": isolines,
+        "normalize": normalize,
+        "weight_group": weight_group,
+        "isoline_material": isoline_material,
+        "isoline_spacing": isoline_spacing,
+        "isoline_width": isoline_width,
+    }
+
+
+def _check_isoline_options(attribute, spacing, width):
+    """The isoline material reads the distance attribute: it must be written; spacing >= 0, width > 0."""
+    if attribute is None:
+        raise AddonError("isoline_material=True draws the distance attribute: give an attribute name, not None")
+    if not (np.isfinite(spacing) and spacing >= 0):
+        raise AddonError(f"isoline_spacing must be 0 (from the isoline count) or a positive distance, got {spacing}")
+    if not (np.isfinite(width) and width > 0):
+        raise AddonError(f"isoline_width must be a positive number of pixels, got {width}")
+
+
+#: The output options (keywords of :func:`check_outputs` and :func:`write_outputs`).
+OUTPUT_NAMES = tuple(name for name in inspect.signature(check_outputs).parameters if name != "mesh")
+
+
+def write_outputs(obj, d, space, *, attribute, color_attribute, colormap, isolines, normalize, weight_group,
+                  isoline_material, isoline_spacing, isoline_width):
+    """Write the distance ``d`` (per vertex, ``inf`` where unreachable) to the outputs of ``obj``.
+
+    ``space`` is the space it was measured in (the isoline material's line widths depend on it).
+
+    Returns
+    -------
+    float
+        The largest finite distance (0 when none is finite).
+    """
+    mesh = obj.data
+    finite = np.isfinite(d)
+    dmax = float(d[finite].max()) if finite.any() else 0.0
+    scale = 1.0 / dmax if (normalize and dmax > 0) else 1.0
+    with adapters.object_mode(obj):
+        if attribute is not None:
+            adapters.write_float_attribute(mesh, attribute, np.where(finite, d * scale, adapters.UNREACHABLE_VALUE))
+        if color_attribute is not None:
+            remember_active_color(mesh, color_attribute)
+            rgb = colormaps.colorize(d, colormap=colormap, isolines=int(isolines))
+            adapters.write_color_attribute(mesh, color_attribute, rgb)
+        if weight_group:
+            weights = np.where(finite, d / dmax if dmax > 0 else 0.0, np.nan)
+            adapters.write_vertex_group(obj, weight_group, np.clip(weights, 0.0, 1.0))
+        mesh.update()
+    if isoline_material:
+        spacing = isoline_spacing or (dmax / isolines if isolines else 0.0)
+        show_isoline_material(obj, attribute, colormap=colormap, max_distance=dmax, spacing=spacing,
+                              attribute_scale=1.0 / scale, line_width=isoline_width, space=space)
+    return dmax

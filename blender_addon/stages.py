@@ -1,0 +1,371 @@
+"""The three stages of a run, for the script API (one after the other) and the button (build in the background).
+
+1. :func:`prepare_run` (main thread): check the options, read the measured
+   shape and the sources from Blender, look the solver up in the cache;
+2. :func:`build_solver` (any thread): heatcore only, no ``bpy``; reports
+   heatcore's build stages and may be cancelled between them;
+3. :func:`finish_run` (main thread): keep the new solver in the cache, query
+   the distance, write the outputs. After a background build,
+   :func:`check_unchanged` first makes sure the object still exists and has
+   the shape the solver was built on.
+
+:func:`~.api.compute_geodesic_distance` runs 1, 2, 3 in a row; the operator
+runs 2 in a worker thread (:mod:`.background`) when the cache misses.
+
+Examples
+--------
+>>> run = prepare_run(obj, isolines=10)               # doctest: +SKIP
+>>> if run.solver is None:                            # doctest: +SKIP
+...     build_solver(run, progress)                   # doctest: +SKIP
+>>> result = finish_run(run)                          # doctest: +SKIP
+"""
+
+import importlib
+import time
+import warnings
+from dataclasses import dataclass
+
+import bpy
+import numpy as np
+
+from . import adapters
+from ._heatcore import heatcore
+from .adapters import AddonError
+from .cache import SOLVERS, geometry_key
+from .outputs import OUTPUT_NAMES, check_outputs, write_outputs
+from .shape import COPY_MARKER, evaluated_copy, measured_positions, nearest_vertices
+
+#: ``heatcore.options``: every option's name, range, default and help (the bundled copy's).
+options = importlib.import_module(heatcore.__name__ + ".options")
+Progress = importlib.import_module(heatcore.__name__ + ".progress").Progress
+
+#: Options that shape the domain (``heatcore.TriangleMesh``), with their defaults;
+#: every other keyword goes to ``heatcore.HeatSolver``.
+MESH_OPTIONS = options.defaults("mesh")
+
+#: The part of a run's progress (0..1) that the solver build covers, and the domain's share of the build
+#: (about a quarter of it with the supernodal backend at 500k vertices, less with the others).
+BUILD_RANGE = (0.1, 0.8)
+DOMAIN_SHARE = 0.25
+
+
+@dataclass
+class GeodesicResult:
+    """What one run computed.
+
+    Attributes
+    ----------
+    distance : (n,) float array
+        Distance per vertex in object units (``inf`` where unreachable).
+    sources : (k,) int array
+        The source vertices.
+    max_distance : float
+        Largest finite distance.
+    n_vertices : int
+    seconds : float
+        Wall time of the whole run.
+    solver_seconds : float
+        Time spent building the solver (0 when it came from the cache).
+    cached : bool
+        Whether the prefactored solver was reused.
+    skipped_modifiers : list of str
+        Modifiers left out because they change the vertices (``shape="EVALUATED"``):
+        the distance is measured on the deformed cage of the mesh's own vertices.
+    warnings : list of str
+        What the user should know about this run (also issued as ``UserWarning``).
+    object : bpy.types.Object
+        The object written to: the one given, or its evaluated copy (``new_object=True``).
+    """
+
+    distance: np.ndarray
+    sources: np.ndarray
+    max_distance: float
+    n_vertices: int
+    seconds: float
+    solver_seconds: float
+    cached: bool
+    skipped_modifiers: list
+    warnings: list
+    object: object = None
+
+
+@dataclass
+class PreparedRun:
+    """One run as read from Blender by :func:`prepare_run`: arrays and checked options.
+
+    Building its solver needs no ``bpy`` (:func:`build_solver`). ``object_uid``
+    and ``mesh_uid`` (``session_uid``) find the object again after a
+    background build, or tell that it was deleted; ``key`` is the cache key of
+    the geometry and options, ``cache_id`` the cache's entry; ``solver`` comes
+    from the cache (``cached``) or from :func:`build_solver`; ``outputs`` are
+    the keywords of :func:`~.outputs.write_outputs`; ``notes`` the warnings
+    for the user; ``start`` is the ``time.perf_counter()`` of the click. With
+    ``new_object``, ``V`` and ``F`` are the evaluated mesh's (every modifier
+    applied) and ``sources`` the positions of the source vertices as
+    displayed: the copy is made, and the sources mapped onto it, only when
+    the result is written (:func:`finish_run`), so that a cancelled run makes
+    nothing.
+    """
+
+    object_name: str
+    object_uid: int
+    mesh_uid: int
+    V: np.ndarray
+    F: np.ndarray
+    sources: np.ndarray
+    skipped_modifiers: list
+    space: str
+    shape: str
+    mesh_options: dict
+    solver_options: dict
+    outputs: dict
+    key: str
+    cache_id: object
+    start: float
+    notes: list
+    new_object: bool = False
+    solver: object = None
+    cached: bool = False
+    solver_seconds: float = 0.0
+
+
+def resolve_sources(obj, sources=None, vertex_group=None, F=None, notes=None):
+    """Source vertex indices: given ones, a vertex group's members, or the selection.
+
+    Vertices no face uses (loose vertices) are dropped when other sources
+    remain, and a note is appended to ``notes``; so is a note when a whole
+    mesh selected in Object Mode (as after adding a primitive) makes every
+    vertex a source.
+
+    Raises
+    ------
+    AddonError
+        No source vertex, only loose ones, or indices outside the mesh.
+    """
+    n = len(obj.data.vertices)
+    if sources is not None:
+        src = np.unique(np.asarray(sources, dtype=np.int64).ravel())
+        what = "the given source list"
+    elif vertex_group:
+        src = adapters.vertex_group_members(obj, vertex_group)
+        what = f"vertex group {vertex_group!r}"
+    else:
+        src = adapters.selected_vertices(obj.data)
+        what = "the selection"
+    if src.size == 0:
+        hint = (
+            "select one or more vertices in Edit Mode"
+            if sources is None and not vertex_group
+            else "give at least one vertex"
+        )
+        raise AddonError(f"no source vertices: {what} of {obj.name!r} is empty; {hint}")
+    try:
+        src = options.check_source_vertices(src, n)
+    except heatcore.InvalidSourceError as exc:
+        raise AddonError(str(exc)) from None
+    notes = [] if notes is None else notes
+    if F is not None and F.size:
+        loose = np.bincount(F.ravel(), minlength=n)[src] == 0
+        if loose.all():
+            raise AddonError(f"no source vertices: {what} of {obj.name!r} holds only vertices no face uses "
+                             f"({_listed(src)}); select vertices of the surface")
+        if loose.any():
+            notes.append(f"{loose.sum():,} of the sources are loose vertices (no face uses them: "
+                         f"{_listed(src[loose])}); measured from the other {(~loose).sum():,}")
+            src = src[~loose]
+    if sources is None and not vertex_group and obj.mode == "OBJECT" and src.size == n > 1:
+        notes.append(f"all {n:,} vertices of {obj.name!r} are selected (as after adding a primitive), so every "
+                     "vertex is a source and every distance is 0; select the sources in Edit Mode")
+    return src
+
+
+def _listed(indices, shown=5):
+    text = ", ".join(str(i) for i in indices[:shown])
+    return text + (f" and {len(indices) - shown:,} more" if len(indices) > shown else "")
+
+
+def _renamed(solver_options):
+    """``time_factor=`` (the add-on's old name of ``m``) as ``m=``, with a DeprecationWarning."""
+    if "time_factor" not in solver_options:
+        return dict(solver_options)
+    solver_options = dict(solver_options)
+    value = solver_options.pop("time_factor")
+    if "m" in solver_options:
+        raise AddonError("give m= only: time_factor= is its deprecated name")
+    warnings.warn("time_factor= is deprecated; use m= (heatcore's name of the heat time factor)",
+                  DeprecationWarning, stacklevel=4)
+    return {**solver_options, "m": value}
+
+
+def read_geometry(obj, space, shape, new_object=False):
+    """Measured positions (``space``, ``shape``), triangles and skipped modifiers, Edit Mode synced first.
+
+    ``new_object``: the whole evaluated mesh (every modifier applied) as
+    :func:`~.shape.evaluated_copy` will hold it, read without making data.
+    """
+    if obj.mode == "EDIT":
+        obj.update_from_editmode()
+    if not new_object:
+        _, F = adapters.mesh_arrays(obj.data)
+        V, skipped = measured_positions(obj, space, shape)
+        return V, F, skipped
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    try:
+        V, F = adapters.mesh_arrays(evaluated.to_mesh())
+    finally:
+        evaluated.to_mesh_clear()
+    if space == "WORLD":  # as measured_positions(copy, "WORLD", "BASIS") with the copy placed as obj
+        M = np.array(obj.matrix_world, dtype=np.float64)
+        V = V @ M[:3, :3].T + M[:3, 3]
+    return V, F, []
+
+
+def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="EVALUATED", new_object=False,
+                progress=None, **run_options):
+    """Stage 1 (main thread): check everything, read the mesh and the sources, look up the cached solver.
+
+    Takes the arguments of :func:`~.api.compute_geodesic_distance`: the output
+    options (``OUTPUT_NAMES``) and the solver options go in ``run_options``.
+    Nothing is modified, except that a stale cached solver of this mesh
+    (other geometry or options) is dropped. The warnings for the user are
+    in ``notes`` (the caller issues them).
+
+    Returns
+    -------
+    PreparedRun
+        With ``solver`` set when the cache had it.
+    """
+    start = time.perf_counter()
+    progress = Progress(progress)
+    if obj is None or obj.type != "MESH":
+        raise AddonError(f"{getattr(obj, 'name', obj)!r} is not a mesh object")
+    mesh = obj.data
+    outputs = check_outputs(mesh, **{k: run_options.pop(k) for k in OUTPUT_NAMES if k in run_options})
+    solver_options = options.check_all(_renamed(run_options))
+
+    progress(0.05, "reading mesh")
+    if obj.mode == "EDIT":
+        obj.update_from_editmode()
+    if len(mesh.vertices) == 0:
+        raise AddonError(f"mesh {mesh.name!r} has no vertices")
+    notes = []
+    _, F = adapters.mesh_arrays(mesh)
+    src = resolve_sources(obj, sources, vertex_group, F, notes)
+    if new_object:
+        if shape != "EVALUATED":
+            raise AddonError("new_object=True measures the evaluated mesh: it needs shape='EVALUATED'")
+        cage, _ = measured_positions(obj, "LOCAL", "EVALUATED")
+        src = cage[src]  # mapped onto the copy's vertices when it is made
+    V, F, skipped = read_geometry(obj, space, shape, new_object)
+    if skipped:
+        notes.append(f"{obj.name}: distance measured without the modifiers that change its vertices "
+                     f"({', '.join(skipped)}), on the deformed cage of its own vertices")
+
+    mesh_options = {k: solver_options.pop(k, default) for k, default in MESH_OPTIONS.items()}
+    if not F.shape[0]:  # a point cloud takes refine only
+        mesh_options = {"refine": mesh_options["refine"]}
+    key = geometry_key(V, F, {**mesh_options, **solver_options})
+    run = PreparedRun(
+        object_name=obj.name, object_uid=obj.session_uid, mesh_uid=mesh.session_uid, V=V, F=F, sources=src,
+        skipped_modifiers=skipped, space=space, shape=shape, mesh_options=mesh_options,
+        solver_options=solver_options, outputs=outputs, key=key, start=start, notes=notes, new_object=new_object,
+        cache_id=(COPY_MARKER, obj.session_uid) if new_object else mesh.session_uid,
+    )
+    run.solver = SOLVERS.lookup(run.cache_id, key)
+    run.cached = run.solver is not None
+    if not run.cached:
+        SOLVERS.discard(run.cache_id)  # free the stale solver before building
+    return run
+
+
+def build_solver(run, progress=None):
+    """Stage 2 (any thread): build the heat solver of a :func:`prepare_run` with heatcore alone (no ``bpy``).
+
+    ``progress(fraction, message)`` gets heatcore's build stages mapped onto
+    ``BUILD_RANGE``; when it raises (a cancel), the exception propagates and
+    ``run.solver`` stays None. The cache is not touched (:func:`finish_run` fills it).
+    """
+    report = Progress(progress).part(*BUILD_RANGE)
+    report(0.0, f"building the heat solver for {len(run.V):,} vertices")
+    t0 = time.perf_counter()
+    if run.F.shape[0]:
+        domain = heatcore.TriangleMesh(run.V, run.F, **run.mesh_options, progress=report.part(0.0, DOMAIN_SHARE))
+    else:  # vertices only: a point cloud
+        domain = heatcore.PointCloud(run.V, **run.mesh_options)
+    solver = heatcore.HeatSolver(domain, **run.solver_options, progress=report.part(DOMAIN_SHARE, 1.0))
+    run.solver_seconds = time.perf_counter() - t0
+    run.solver = solver
+    return solver
+
+
+def find_object(run):
+    """The run's object, found again by ``session_uid``; None when it was deleted or its mesh replaced."""
+    obj = bpy.data.objects.get(run.object_name)
+    if obj is None or obj.session_uid != run.object_uid:
+        obj = next((o for o in bpy.data.objects if o.session_uid == run.object_uid), None)
+    if obj is None or obj.type != "MESH" or obj.data.session_uid != run.mesh_uid:
+        return None
+    return obj
+
+
+def check_unchanged(run):
+    """The run's object, once checked to exist still and to measure the shape the solver was built on.
+
+    After a background build, during which the user could go on working.
+
+    Raises
+    ------
+    AddonError
+        The object was deleted (or its mesh replaced), its measured shape or
+        its triangles changed, or an output name was taken meanwhile.
+    """
+    obj = find_object(run)
+    if obj is None:
+        raise AddonError(f"{run.object_name!r} was deleted while its solver was being built; nothing was written")
+    V, F, _ = read_geometry(obj, run.space, run.shape, run.new_object)
+    if geometry_key(V, F, {**run.mesh_options, **run.solver_options}) != run.key:
+        raise AddonError(
+            f"{obj.name!r} changed while its solver was being built (its shape or its vertices); "
+            "nothing was written: run it again"
+        )
+    check_outputs(obj.data, **run.outputs)
+    return obj
+
+
+def finish_run(run, progress=None, obj=None):
+    """Stage 3 (main thread): keep a newly built solver in the cache, query the distance, write the outputs.
+
+    ``obj`` defaults to the run's object (:func:`find_object`). With
+    ``new_object``, the outputs go to its evaluated copy, made (or updated) here.
+
+    Returns
+    -------
+    GeodesicResult
+    """
+    progress = Progress(progress)
+    obj = obj or find_object(run)
+    if obj is None:
+        raise AddonError(f"{run.object_name!r} was deleted; nothing was written")
+    if not run.cached:
+        SOLVERS.store(run.cache_id, run.key, run.solver)
+    sources = run.sources
+    if run.new_object:
+        obj = evaluated_copy(obj)
+        sources = np.unique(nearest_vertices(obj, run.sources))
+    progress(0.8, "solving for the distance")
+    d = run.solver.distance(sources)
+    progress(0.9, "writing attributes")
+    dmax = write_outputs(obj, d, run.space, **run.outputs)
+    progress(1.0, "done")
+    return GeodesicResult(
+        distance=d,
+        sources=sources,
+        max_distance=dmax,
+        n_vertices=len(run.V),
+        seconds=time.perf_counter() - run.start,
+        solver_seconds=run.solver_seconds,
+        cached=run.cached,
+        skipped_modifiers=run.skipped_modifiers,
+        warnings=run.notes,
+        object=obj,
+    )
