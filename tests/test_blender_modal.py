@@ -170,6 +170,29 @@ def test_esc_mid_build_writes_nothing_and_caches_nothing(modules):
     assert drive(other) == {"FINISHED"}
 
 
+def test_new_object_is_made_only_when_the_result_is_written(modules):
+    obj = ico_sphere(2)  # 42 vertices, 120 edges, 80 triangles
+    obj.modifiers.new("Subdivision", "SUBSURF").levels = 1
+    select_only(obj, [0])
+    cancelled, _ = modal_run(modules, obj, new_object=True)
+    reached, release = gate(cancelled, modules, "factoring the heat matrix")
+    cancelled.start()
+    assert reached.wait(60)
+    assert cancelled.handle(bpy.context, "ESC", "PRESS") == {"CANCELLED"}
+    release.set()
+    assert cancelled.build.wait(60)
+    assert [o.name for o in bpy.data.objects] == [obj.name]  # no copy
+    finished, _ = modal_run(modules, obj, new_object=True)
+    finished.start()
+    assert drive(finished) == {"FINISHED"}
+    copy = finished.result.object
+    assert copy.name == f"{obj.name} Geodesic" and len(copy.data.vertices) == 42 + 120 + 80  # vertices, edges, faces
+    expected = modules["api"].compute_geodesic_distance(obj, sources=[0], new_object=True)
+    assert expected.object == copy
+    np.testing.assert_array_equal(finished.result.sources, expected.sources)
+    np.testing.assert_allclose(finished.result.distance, expected.distance, rtol=1e-12, atol=1e-12)
+
+
 def test_second_build_is_refused_while_one_runs_and_edit_mode_is_respected(modules):
     background = modules["background"]
     first_obj, second_obj = ico_sphere(3), ico_sphere(3)
