@@ -37,17 +37,20 @@ def _status(context, text):
         workspace.status_text_set(text)
 
 
-def show_color_attribute(context):
-    """Switch solid-shaded 3D views to attribute colors so the result is visible."""
+def show_color_attribute(context, material=False):
+    """Make the result visible in solid-shaded 3D views: attribute colors, or Material Preview
+    when the isoline material is on (a material shows only there and in Rendered shading)."""
     screen = getattr(context, "screen", None)
     for area in screen.areas if screen else ():
         if area.type == "VIEW_3D":
             shading = area.spaces.active.shading
-            if shading.type == "SOLID":
+            if shading.type == "SOLID" and material:
+                shading.type = "MATERIAL"
+            elif shading.type == "SOLID":
                 shading.color_type = "VERTEX"  # "Attribute" in the UI
 
 
-def report_result(context, result, report, obj):
+def report_result(context, result, report, obj, material=False):
     """Statistics for the panel, attribute colors in the viewport, and the INFO (and WARNING) reports of a run on ``obj``."""
     stats = context.window_manager.heat_geodesic_stats
     stats.valid = True
@@ -58,7 +61,7 @@ def report_result(context, result, report, obj):
     stats.seconds = result.seconds
     stats.solver_seconds = result.solver_seconds
     stats.cached = result.cached
-    show_color_attribute(context)
+    show_color_attribute(context, material)
     for note in result.warnings:
         report({"WARNING"}, note)
     how = "cached solver" if result.cached else f"solver built in {result.solver_seconds:.2f} s"
@@ -179,7 +182,7 @@ class ModalRun:
                 return {"CANCELLED"}
         finally:
             self.display.end()
-        return report_result(context, result, self.report, obj)
+        return report_result(context, result, self.report, obj, self.isoline_material)
 
     def cancel(self, message=None):
         """Cancel the build (the worker stops at its next stage), take the display down: ``{"CANCELLED"}``."""
@@ -224,7 +227,7 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
             run = prepare_run(context.active_object, **self.call_options())
             if run.solver is not None:  # cached: only the query is left, no thread needed
                 obj = context.active_object
-                return report_result(context, finish_run(run, obj=obj), self.report, obj)
+                return report_result(context, finish_run(run, obj=obj), self.report, obj, self.isoline_material)
         except REPORTED_ERRORS as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
@@ -264,4 +267,4 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
         finally:
             wm.progress_end()
             _status(context, None)
-        return report_result(context, result, self.report, obj)
+        return report_result(context, result, self.report, obj, self.isoline_material)
