@@ -182,7 +182,7 @@ class ModalRun:
                 return {"CANCELLED"}
         finally:
             self.display.end()
-        return report_result(context, result, self.report, obj, self.isoline_material)
+        return report_result(context, result, self.report, obj, self.run.outputs["isoline_material"])
 
     def cancel(self, message=None):
         """Cancel the build (the worker stops at its next stage), take the display down: ``{"CANCELLED"}``."""
