@@ -13,7 +13,7 @@ Examples
 
 import warnings
 
-from .outputs import DEFAULT_ATTRIBUTE, DEFAULT_COLOR_ATTRIBUTE
+from .outputs import DEFAULT_ATTRIBUTE, DEFAULT_COLOR_ATTRIBUTE, DEFAULT_WEIGHT_GROUP
 from .stages import (
     MESH_OPTIONS,
     GeodesicResult,
@@ -27,6 +27,7 @@ from .stages import (
 __all__ = [
     "DEFAULT_ATTRIBUTE",
     "DEFAULT_COLOR_ATTRIBUTE",
+    "DEFAULT_WEIGHT_GROUP",
     "MESH_OPTIONS",
     "GeodesicResult",
     "compute_geodesic_distance",
@@ -46,6 +47,9 @@ def compute_geodesic_distance(
     isolines=0,
     normalize=False,
     weight_group=None,
+    weight_radius=None,
+    weight_falloff="LINEAR",
+    weight_invert=False,
     space="WORLD",
     shape="EVALUATED",
     new_object=False,
@@ -85,8 +89,23 @@ def compute_geodesic_distance(
     normalize : bool
         Divide the distance attribute by the largest distance (values in [0, 1]).
     weight_group : str, optional
-        Also write the normalized distance (0 at the sources, 1 farthest) as
-        weights of this vertex group, for modifiers.
+        Also write weights for modifiers to this vertex group (the panel's
+        default name: ``"geodesic_weight"``): 1 at the sources falling to 0
+        at ``weight_radius`` (:func:`heatcore.weights.distance_weights`).
+        Every vertex is a member; vertices no source reaches get 0. The group
+        becomes the active one; one made by an earlier run is replaced. Its
+        name must differ from every attribute of the mesh and from
+        ``attribute`` and ``color_attribute`` (attributes and vertex groups
+        share one set of names), and from ``vertex_group``.
+    weight_radius : float, optional
+        Geodesic distance at which the weight reaches 0, in the units of
+        ``space``. None: the largest distance.
+    weight_falloff : {"LINEAR", "SMOOTH", "SHARP", "ROOT"}
+        The weight's curve (Blender's falloff types, as in the
+        VertexWeightProximity modifier): linear, smoothstep, squared, square root.
+    weight_invert : bool
+        Invert the falloff: weight 0 at the sources rising to 1 at the radius
+        (unreachable vertices stay 0).
     space : {"WORLD", "LOCAL"}
         "WORLD": in scene units, with the object's scale, rotation and
         parents applied; "LOCAL": in the object's own coordinates.
@@ -132,8 +151,9 @@ def compute_geodesic_distance(
     Raises
     ------
     AddonError
-        Not a mesh, no vertices, no sources, or an output name taken by
-        another kind of attribute. Nothing is modified.
+        Not a mesh, no vertices, no sources, or an output name that collides
+        (taken by another kind of attribute; a weight group named like an
+        attribute; an attribute named like a vertex group). Nothing is modified.
     heatcore.HeatcoreError
         Invalid options or geometry (for example a source on a loose vertex).
         Nothing is modified.
@@ -141,7 +161,8 @@ def compute_geodesic_distance(
     run = prepare_run(
         obj, sources, vertex_group=vertex_group, space=space, shape=shape, new_object=new_object, progress=progress,
         attribute=attribute, color_attribute=color_attribute, colormap=colormap, isolines=isolines,
-        normalize=normalize, weight_group=weight_group, isoline_material=isoline_material,
+        normalize=normalize, weight_group=weight_group, weight_radius=weight_radius,
+        weight_falloff=weight_falloff, weight_invert=weight_invert, isoline_material=isoline_material,
         isoline_spacing=isoline_spacing, isoline_width=isoline_width, **solver_options,
     )
     for note in run.notes:

@@ -7,7 +7,7 @@ once the distance is known. Their keywords are the output options of
 
 Examples
 --------
->>> outputs = check_outputs(obj.data, isolines=10)      # doctest: +SKIP
+>>> outputs = check_outputs(obj, isolines=10)           # doctest: +SKIP
 >>> dmax = write_outputs(obj, distance, "WORLD", **outputs)   # doctest: +SKIP
 """
 
@@ -25,40 +25,55 @@ from .undo import remember_active_color
 
 #: ``heatcore.options`` (the bundled copy's).
 options = importlib.import_module(heatcore.__name__ + ".options")
+#: ``heatcore.weights``: distance to weights for modifiers.
+weights = importlib.import_module(heatcore.__name__ + ".weights")
 
+#: Default output names: no two alike, so no attribute is ever named like the weight group.
 DEFAULT_ATTRIBUTE = "geodesic_distance"
 DEFAULT_COLOR_ATTRIBUTE = "geodesic_distance_color"
+DEFAULT_WEIGHT_GROUP = "geodesic_weight"
 
 
 def check_outputs(
-    mesh,
+    obj,
     *,
+    source_group=None,
     attribute=DEFAULT_ATTRIBUTE,
     color_attribute=DEFAULT_COLOR_ATTRIBUTE,
     colormap="viridis",
     isolines=0,
     normalize=False,
     weight_group=None,
+    weight_radius=None,
+    weight_falloff="LINEAR",
+    weight_invert=False,
     isoline_material=False,
     isoline_spacing=0.0,
     isoline_width=1.5,
 ):
     """The output options checked (before any work), as keywords of :func:`write_outputs`.
 
+    ``source_group`` (the vertex group whose members are the sources, if
+    any) is not an output: the weight group must not be it.
+
     Raises
     ------
     AddonError
-        An unknown colormap, an output name taken by another kind of
-        attribute, or isoline options the material cannot draw.
+        An unknown colormap, output names that collide
+        (:func:`~.adapters.check_output_names`), or isoline options the
+        material cannot draw.
+    heatcore.InvalidOptionError
+        A bad isoline count or weight option.
     """
     try:
         colormap = options.check("colormap", colormap)
     except heatcore.InvalidOptionError as exc:
         raise AddonError(str(exc)) from None
     isolines = options.check("isolines", isolines)
-    for name, data_type in ((attribute, "FLOAT"), (color_attribute, "FLOAT_COLOR")):
-        if name is not None:
-            adapters.check_attribute_free(mesh, name, "POINT", data_type)
+    weight_options = {"weight_radius": options.check("weight_radius", weight_radius),
+                      "weight_falloff": options.check("weight_falloff", weight_falloff),
+                      "weight_invert": options.check("weight_invert", weight_invert)}
+    adapters.check_output_names(obj, attribute, color_attribute, weight_group or None, source_group)
     if isoline_material:
         _check_isoline_options(attribute, isoline_spacing, isoline_width)
     return {
@@ -68,6 +83,7 @@ def check_outputs(
         "isolines": isolines,
         "normalize": normalize,
         "weight_group": weight_group,
+        **weight_options,
         "isoline_material": isoline_material,
         "isoline_spacing": isoline_spacing,
         "isoline_width": isoline_width,
@@ -85,11 +101,11 @@ def _check_isoline_options(attribute, spacing, width):
 
 
 #: The output options (keywords of :func:`check_outputs` and :func:`write_outputs`).
-OUTPUT_NAMES = tuple(name for name in inspect.signature(check_outputs).parameters if name != "mesh")
+OUTPUT_NAMES = tuple(name for name in inspect.signature(check_outputs).parameters if name not in ("obj", "source_group"))
 
 
 def write_outputs(obj, d, space, *, attribute, color_attribute, colormap, isolines, normalize, weight_group,
-                  isoline_material, isoline_spacing, isoline_width):
+                  weight_radius, weight_falloff, weight_invert, isoline_material, isoline_spacing, isoline_width):
     """Write the distance ``d`` (per vertex, ``inf`` where unreachable) to the outputs of ``obj``.
 
     ``space`` is the space it was measured in (the isoline material's line widths depend on it).
@@ -111,8 +127,8 @@ def write_outputs(obj, d, space, *, attribute, color_attribute, colormap, isolin
             rgb = colormaps.colorize(d, colormap=colormap, isolines=int(isolines))
             adapters.write_color_attribute(mesh, color_attribute, rgb)
         if weight_group:
-            weights = np.where(finite, d / dmax if dmax > 0 else 0.0, np.nan)
-            adapters.write_vertex_group(obj, weight_group, np.clip(weights, 0.0, 1.0))
+            w = weights.distance_weights(d, radius=weight_radius, falloff=weight_falloff, invert=weight_invert)
+            adapters.write_vertex_group(obj, weight_group, w)
         mesh.update()
     if isoline_material:
         spacing = isoline_spacing or (dmax / isolines if isolines else 0.0)

@@ -62,6 +62,9 @@ class VIEW3D_PT_heat_geodesic(bpy.types.Panel):
         col.prop(settings, "write_weights")
         if settings.write_weights:
             col.prop(settings, "weight_group")
+            col.prop(settings, "weight_radius")
+            col.prop(settings, "weight_falloff")
+            col.prop(settings, "weight_invert")
 
         stats = context.window_manager.heat_geodesic_stats
         if stats.valid:

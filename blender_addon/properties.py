@@ -3,20 +3,24 @@
 :class:`GeodesicOptions` declares every option once; the operator and the
 scene settings shown in the panel both inherit it. heatcore's options
 (``m``, ``boundary``, ``accuracy``, ``robust``, ``backend``, ``colormap``,
-``isolines``)
+``isolines``, ``weight_radius``, ``weight_falloff``, ``weight_invert``)
 are generated from ``heatcore.options`` by :func:`option_property`: the
 property name is the option's name, and its description, default, range and
-choices are the declared ones (the label may be friendlier). The add-on's own
-options (sources, output names) are declared here.
+choices are the declared ones (the label may be friendlier). An option that
+may be None (``weight_radius``) declares the Blender value standing for None
+as its Blender default (0: the largest distance); :func:`option_value` turns it
+back into None. The add-on's own options (sources, output names) are declared
+here.
 """
 
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
-from .api import DEFAULT_ATTRIBUTE, DEFAULT_COLOR_ATTRIBUTE, options
+from .api import DEFAULT_ATTRIBUTE, DEFAULT_COLOR_ATTRIBUTE, DEFAULT_WEIGHT_GROUP, options
 
 #: heatcore options that are properties here, in panel order.
-HEATCORE_OPTIONS = ("m", "boundary", "accuracy", "robust", "backend", "colormap", "isolines")
+HEATCORE_OPTIONS = ("m", "boundary", "accuracy", "robust", "backend", "colormap", "isolines",
+                    "weight_radius", "weight_falloff", "weight_invert")
 #: Of those, the ones passed to heatcore's domain and solver.
 SOLVER_OPTIONS = ("m", "boundary", "accuracy", "robust", "backend")
 
@@ -54,11 +58,29 @@ def option_property(name):
         return EnumProperty(items=items, **kw)
     if opt.type is bool:
         return BoolProperty(**kw)
-    limits = {"min": opt.ui_min if opt.low_open else opt.low, "max": opt.high, "soft_max": opt.soft_max}
+    low = _none_stand_in(opt) if opt.default is None else opt.ui_min if opt.low_open else opt.low
+    limits = {"min": low, "max": opt.high, "soft_max": opt.soft_max}
     limits = {k: v for k, v in limits.items() if v is not None}
     if opt.type is int:
         return IntProperty(**kw, **limits)
     return FloatProperty(**kw, **limits)
+
+
+def _none_stand_in(opt):
+    """The Blender value of an option that stands for None: its declared Blender default, if its default is None."""
+    return opt.default_for("blender") if opt.default is None and opt.none_means else None
+
+
+def option_value(name, value):
+    """The heatcore value of property ``name``: None where Blender holds the stand-in for None.
+
+    Examples
+    --------
+    >>> option_value("weight_radius", 0.0), option_value("weight_radius", 2.5)  # doctest: +SKIP
+    (None, 2.5)
+    """
+    stand_in = _none_stand_in(options.OPTIONS[name])
+    return None if stand_in is not None and value == stand_in else value
 
 
 class GeodesicOptions:
@@ -84,10 +106,18 @@ class GeodesicOptions:
     isolines: option_property("isolines")
     write_weights: BoolProperty(
         name="Vertex Group Output",
-        description="Also write the normalized distance as vertex-group weights (for modifiers)",
+        description="Also write weights to a vertex group (for modifiers): 1 at the sources falling to 0 at the "
+                    "radius; the group becomes the active one",
         default=False,
     )
-    weight_group: StringProperty(name="Weight Group", default=DEFAULT_ATTRIBUTE)
+    weight_group: StringProperty(
+        name="Weight Group",
+        description="Vertex group that receives the weights; it must not share its name with an attribute",
+        default=DEFAULT_WEIGHT_GROUP,
+    )
+    weight_radius: option_property("weight_radius")
+    weight_falloff: option_property("weight_falloff")
+    weight_invert: option_property("weight_invert")
     space: EnumProperty(name="Space", items=SPACE_ITEMS, default="WORLD")
     shape: EnumProperty(name="Shape", items=SHAPE_ITEMS, default="EVALUATED")
     new_object: BoolProperty(
@@ -126,6 +156,9 @@ class GeodesicOptions:
             isolines=self.isolines,
             normalize=self.normalize,
             weight_group=self.weight_group if self.write_weights else None,
+            weight_radius=option_value("weight_radius", self.weight_radius),
+            weight_falloff=self.weight_falloff,
+            weight_invert=self.weight_invert,
             space=self.space,
             shape=self.shape,
             new_object=self.new_object,

@@ -22,7 +22,7 @@ import bpy
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .adapters import AddonError
+from .adapters import AddonError, vertex_positions
 from .material import is_isoline_modifier
 
 SPACES = ("WORLD", "LOCAL")
@@ -48,11 +48,22 @@ def _evaluated_positions(obj, depsgraph):
     evaluated = obj.evaluated_get(depsgraph)
     mesh = evaluated.to_mesh()
     try:
-        co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
-        mesh.vertices.foreach_get("co", co)
+        return vertex_positions(mesh)
     finally:
         evaluated.to_mesh_clear()
-    return co.reshape(-1, 3).astype(np.float64)
+
+
+def _shown_as_stored(obj):
+    """Whether ``obj`` is displayed as its mesh data: no shape keys, no modifier shown but the add-on's
+    isoline modifier (it only sets a material), no parent deforming it.
+
+    Then the displayed positions are read from the mesh without evaluating it
+    (in Edit Mode that evaluation converts the whole edit mesh: 0.1 s at 500k
+    vertices).
+    """
+    return (obj.data.shape_keys is None
+            and not any(m.show_viewport and not is_isoline_modifier(m) for m in obj.modifiers)
+            and (obj.parent is None or obj.parent_type not in ("ARMATURE", "LATTICE")))
 
 
 def displayed_positions(obj):
@@ -67,6 +78,8 @@ def displayed_positions(obj):
         (their switches are restored before this returns).
     """
     n = len(obj.data.vertices)
+    if _shown_as_stored(obj):
+        return vertex_positions(obj.data), []
     V = _evaluated_positions(obj, bpy.context.evaluated_depsgraph_get())
     if len(V) == n:
         return V, []
@@ -110,9 +123,7 @@ def measured_positions(obj, space="WORLD", shape="EVALUATED"):
     if shape == "EVALUATED":
         V, skipped = displayed_positions(obj)
     else:
-        co = np.empty(3 * len(obj.data.vertices), dtype=np.float32)
-        obj.data.vertices.foreach_get("co", co)
-        V, skipped = co.reshape(-1, 3).astype(np.float64), []
+        V, skipped = vertex_positions(obj.data), []
     if space == "WORLD":
         M = np.array(obj.matrix_world, dtype=np.float64)
         V = V @ M[:3, :3].T + M[:3, 3]

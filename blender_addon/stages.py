@@ -31,7 +31,7 @@ import numpy as np
 from . import adapters
 from ._heatcore import heatcore
 from .adapters import AddonError
-from .cache import SOLVERS, geometry_key
+from .cache import SOLVERS, geometry_key, same_key
 from .outputs import OUTPUT_NAMES, check_outputs, write_outputs
 from .shape import COPY_MARKER, evaluated_copy, measured_positions, nearest_vertices
 
@@ -98,7 +98,9 @@ class PreparedRun:
     background build, or tell that it was deleted; ``key`` is the cache key of
     the geometry and options, ``cache_id`` the cache's entry; ``solver`` comes
     from the cache (``cached``) or from :func:`build_solver`; ``outputs`` are
-    the keywords of :func:`~.outputs.write_outputs`; ``notes`` the warnings
+    the keywords of :func:`~.outputs.write_outputs`; ``F`` the triangles,
+    read only when the solver is to be built (None when it came from the
+    cache); ``notes`` the warnings
     for the user; ``start`` is the ``time.perf_counter()`` of the click. With
     ``new_object``, ``V`` and ``F`` are the evaluated mesh's (every modifier
     applied) and ``sources`` the positions of the source vertices as
@@ -111,7 +113,7 @@ class PreparedRun:
     object_uid: int
     mesh_uid: int
     V: np.ndarray
-    F: np.ndarray
+    F: object
     sources: np.ndarray
     skipped_modifiers: list
     space: str
@@ -119,7 +121,7 @@ class PreparedRun:
     mesh_options: dict
     solver_options: dict
     outputs: dict
-    key: str
+    key: tuple
     cache_id: object
     start: float
     notes: list
@@ -198,17 +200,22 @@ def _renamed(solver_options):
 
 
 def read_geometry(obj, space, shape, new_object=False):
-    """Measured positions (``space``, ``shape``), triangles and skipped modifiers, Edit Mode synced first.
+    """Measured positions (``space``, ``shape``), what fixes the triangles, and skipped modifiers, Edit Mode synced first.
 
-    ``new_object``: the whole evaluated mesh (every modifier applied) as
-    :func:`~.shape.evaluated_copy` will hold it, read without making data.
+    The second value is a tuple of arrays that, with the positions, fixes
+    the triangles (the cache key): the mesh's face corners, triangle-to-face
+    map and own positions (:func:`~.adapters.topology`; a few milliseconds,
+    where copying the triangles out takes 0.15 s at 500k vertices), or with
+    ``new_object`` the triangles themselves (:func:`read_triangles` gives
+    them in both cases). ``new_object``: the whole evaluated mesh (every
+    modifier applied) as :func:`~.shape.evaluated_copy` will hold it, read
+    without making data.
     """
     if obj.mode == "EDIT":
         obj.update_from_editmode()
     if not new_object:
-        _, F = adapters.mesh_arrays(obj.data)
         V, skipped = measured_positions(obj, space, shape)
-        return V, F, skipped
+        return V, (*adapters.topology(obj.data), adapters.vertex_positions(obj.data)), skipped
     evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
     try:
         V, F = adapters.mesh_arrays(evaluated.to_mesh())
@@ -217,7 +224,12 @@ def read_geometry(obj, space, shape, new_object=False):
     if space == "WORLD":  # as measured_positions(copy, "WORLD", "BASIS") with the copy placed as obj
         M = np.array(obj.matrix_world, dtype=np.float64)
         V = V @ M[:3, :3].T + M[:3, 3]
-    return V, F, []
+    return V, (F,), []
+
+
+def read_triangles(obj, topology, new_object=False):
+    """The triangles of :func:`read_geometry`'s geometry (read from ``obj`` unless ``topology`` holds them)."""
+    return topology[0] if new_object else adapters.mesh_arrays(obj.data)[1]
 
 
 def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="EVALUATED", new_object=False,
@@ -240,7 +252,8 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
     if obj is None or obj.type != "MESH":
         raise AddonError(f"{getattr(obj, 'name', obj)!r} is not a mesh object")
     mesh = obj.data
-    outputs = check_outputs(mesh, **{k: run_options.pop(k) for k in OUTPUT_NAMES if k in run_options})
+    outputs = check_outputs(obj, source_group=vertex_group if sources is None else None,
+                            **{k: run_options.pop(k) for k in OUTPUT_NAMES if k in run_options})
     solver_options = options.check_all(_renamed(run_options))
 
     progress(0.05, "reading mesh")
@@ -249,24 +262,24 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
     if len(mesh.vertices) == 0:
         raise AddonError(f"mesh {mesh.name!r} has no vertices")
     notes = []
-    _, F = adapters.mesh_arrays(mesh)
-    src = resolve_sources(obj, sources, vertex_group, F, notes)
+    corners, _ = adapters.topology(mesh)  # every vertex a face uses (loose sources are dropped)
+    src = resolve_sources(obj, sources, vertex_group, corners, notes)
     if new_object:
         if shape != "EVALUATED":
             raise AddonError("new_object=True measures the evaluated mesh: it needs shape='EVALUATED'")
         cage, _ = measured_positions(obj, "LOCAL", "EVALUATED")
         src = cage[src]  # mapped onto the copy's vertices when it is made
-    V, F, skipped = read_geometry(obj, space, shape, new_object)
+    V, topology, skipped = read_geometry(obj, space, shape, new_object)
     if skipped:
         notes.append(f"{obj.name}: distance measured without the modifiers that change its vertices "
                      f"({', '.join(skipped)}), on the deformed cage of its own vertices")
 
     mesh_options = {k: solver_options.pop(k, default) for k, default in MESH_OPTIONS.items()}
-    if not F.shape[0]:  # a point cloud takes refine only
+    if not topology[0].size:  # no face corners (no triangles): a point cloud takes refine only
         mesh_options = {"refine": mesh_options["refine"]}
-    key = geometry_key(V, F, {**mesh_options, **solver_options})
+    key = geometry_key(V, topology, {**mesh_options, **solver_options}, copy=False)
     run = PreparedRun(
-        object_name=obj.name, object_uid=obj.session_uid, mesh_uid=mesh.session_uid, V=V, F=F, sources=src,
+        object_name=obj.name, object_uid=obj.session_uid, mesh_uid=mesh.session_uid, V=V, F=None, sources=src,
         skipped_modifiers=skipped, space=space, shape=shape, mesh_options=mesh_options,
         solver_options=solver_options, outputs=outputs, key=key, start=start, notes=notes, new_object=new_object,
         cache_id=(COPY_MARKER, obj.session_uid) if new_object else mesh.session_uid,
@@ -275,6 +288,8 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
     run.cached = run.solver is not None
     if not run.cached:
         SOLVERS.discard(run.cache_id)  # free the stale solver before building
+        run.F = read_triangles(obj, topology, new_object)
+        run.key = geometry_key(V, topology, {**mesh_options, **solver_options})  # kept with the solver: copied
     return run
 
 
@@ -322,13 +337,13 @@ def check_unchanged(run):
     obj = find_object(run)
     if obj is None:
         raise AddonError(f"{run.object_name!r} was deleted while its solver was being built; nothing was written")
-    V, F, _ = read_geometry(obj, run.space, run.shape, run.new_object)
-    if geometry_key(V, F, {**run.mesh_options, **run.solver_options}) != run.key:
+    V, topology, _ = read_geometry(obj, run.space, run.shape, run.new_object)
+    if not same_key(run.key, geometry_key(V, topology, {**run.mesh_options, **run.solver_options}, copy=False)):
         raise AddonError(
             f"{obj.name!r} changed while its solver was being built (its shape or its vertices); "
             "nothing was written: run it again"
         )
-    check_outputs(obj.data, **run.outputs)
+    check_outputs(obj, **run.outputs)
     return obj
 
 

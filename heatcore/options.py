@@ -8,7 +8,7 @@ choices, its default, its unit, one help text, and where it goes:
   ``DomainFile.domain``);
 - ``"solver"``: a keyword of :class:`~heatcore.HeatSolver`;
 - ``"read"``: how a file is read (:func:`heatcore.io.domain.read_domain`);
-- ``"output"``: how the distance is coloured.
+- ``"output"``: how the distance is coloured or made into weights.
 
 The front ends are generated from this table or checked by it: the
 ``heatcore`` command's and the MeshLab command's argparse options
@@ -86,8 +86,8 @@ class Option:
         Smallest value a slider offers where ``low`` is open, and the upper
         end of the slider range.
     front_end_defaults : tuple of (front_end, value, text)
-        Front ends whose default differs from ``default``, with the text
-        their help shows.
+        Front ends whose default differs from ``default``, with the text their
+        help shows; one with no None (Blender) declares the value standing for it.
 
     Examples
     --------
@@ -302,6 +302,17 @@ _OPTIONS = (
         "output", low=0, flag="--isolines", metavar="N", ui_label="Isolines", soft_max=50,
         front_end_defaults=(("cli", None, "none in the PLY, 12 in the PNG"), ("blender", 10, "10")),
     ),
+    Option("weight_radius", "weight radius", float, None, "mesh units (a length; scene units in Blender's World space)",
+        "geodesic distance at which the weight reaches 0 (it is 1 at the sources); unset: the largest distance",
+        "output", low=0, low_open=True, none_means="the largest distance", ui_label="Radius",
+        front_end_defaults=(("blender", 0.0, "0: the largest distance"),)),
+    Option("weight_falloff", "weight falloff", str, "LINEAR", "none (a choice)",
+        "curve of the weight from 1 at the sources to 0 at the radius (Blender's falloff types)", "output",
+        choices=("LINEAR", "SMOOTH", "SHARP", "ROOT"), ui_label="Falloff", choice_help=(
+            "Even fall with distance (a cone)", "Smoothstep: flat at the sources and at the radius",
+            "Squared: drops fast near the sources (a spike)", "Square root: stays high, drops at the radius")),
+    Option("weight_invert", "weight inversion", bool, False, "none (on or off)", "invert the falloff: weight 0 at the "
+        "sources rising to 1 at the radius (vertices no source reaches stay 0)", "output", ui_label="Invert Falloff"),
 )
 
 #: Every option by name.

@@ -13,7 +13,7 @@ never up and never sideways to a sibling group):
 
     front ends   apps/ (and heatcore.__main__)  |  blender_addon/
     api          heatcore/__init__.py
-    io | viz     io/ (file readers and writers)  |  viz/ (colormaps, renderer)
+    io | viz     io/ (file readers and writers)  |  viz/ (colormaps, renderer)  |  weights.py
     solver       heat.py, eikonal.py, reference.py
     domains      domains/
     linalg       linalg/ (knows no geometry)
@@ -73,7 +73,9 @@ LAYERS = [
                    ["heatcore.io", "heatcore.io.*", "heatcore.domain_io", "heatcore.ply",
                     "heatcore.pointcloud_io", "heatcore.polygon_io", "heatcore.tet_io"]),
                   ("viz", "colormaps and the software renderer",
-                   ["heatcore.viz", "heatcore.viz.*", "heatcore.colormap", "heatcore.render"])]),
+                   ["heatcore.viz", "heatcore.viz.*", "heatcore.colormap", "heatcore.render"]),
+                  ("weights", "distance to weights in [0, 1] for modifiers (Blender's falloff curves)",
+                   ["heatcore.weights"])]),
     ("api", [("api", "the public API: heatcore/__init__.py", ["heatcore"])]),
     ("front ends", [("apps", "command line, batch, MeshLab filter",
                      ["heatcore.apps", "heatcore.apps.*", "heatcore.__main__", "heatcore.cli",
@@ -438,6 +440,7 @@ def _short(path, group):
 GROUP_COLORS = {  # (box fill, arrow colour)
     "foundation": ("#ececec", "#6b6b6b"), "linalg": ("#dce9f7", "#2a6bb0"), "domains": ("#dff2df", "#2e8b3a"),
     "solver": ("#fde9cf", "#d07a00"), "io": ("#efe1f5", "#8a4fb0"), "viz": ("#fbe0e6", "#c2456a"),
+    "weights": ("#e6f4ea", "#3b7d4f"),
     "api": ("#fff6c4", "#a08a00"), "apps": ("#dff1f3", "#1f8a96"), "blender_addon": ("#f3ecdc", "#8a6a2e"),
 }
 FOLDERS = {"linalg", "domains", "io", "viz", "apps", "blender_addon"}

@@ -291,7 +291,7 @@ def test_other_data_preserved_and_rerun_overwrites(addon):
 
     weights = obj.vertex_groups["distance_weight"]
     w = np.array([weights.weight(i) for i in range(n)])
-    np.testing.assert_allclose(w, expected / expected.max(), atol=1e-6)
+    np.testing.assert_allclose(w, 1 - expected / expected.max(), atol=1e-6)  # 1 at the source, 0 farthest
 
     # The user's data and the geometry are untouched (the selection is ours to change here).
     assert_same_snapshot(before, snapshot(obj), ignore=(*ours, "distance_weight", "selection"))

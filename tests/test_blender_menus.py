@@ -192,7 +192,7 @@ def test_register_twice_or_a_reloaded_copy_adds_no_duplicate_and_unregister_remo
 
 
 def test_weight_paint_entry_writes_the_weights(addon):
-    """The Weights menu's entry, invoked as the menu does, in Weight Paint mode: weights = distance / max."""
+    """The Weights menu's entry, invoked as the menu does, in Weight Paint mode: weights = 1 - distance / max."""
     obj = ico_sphere(subdivisions=3)
     V = np.array([v.co for v in obj.data.vertices])
     pole = int(np.argmax(V[:, 2]))
@@ -208,8 +208,8 @@ def test_weight_paint_entry_writes_the_weights(addon):
     group = obj.vertex_groups[settings.weight_group]
     weights = np.array([group.weight(i) for i in range(len(V))])
     d = attribute(obj.data, settings.attribute)
-    np.testing.assert_allclose(weights, d / d.max(), atol=1e-6)
-    assert weights[pole] == 0.0 and weights.max() == pytest.approx(1.0)
+    np.testing.assert_allclose(weights, 1.0 - d / d.max(), atol=1e-6)  # 1 at the source, 0 farthest
+    assert weights[pole] == 1.0 and weights.min() == pytest.approx(0.0)
 
 
 # ---------------------------------------------------------------- panels

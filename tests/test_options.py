@@ -91,6 +91,7 @@ def test_declared_choices_match_the_code_that_implements_them():
     assert OPTIONS["refine"].requirement() == "'auto' or an integer 0..8"
     assert f"{PNG_ISOLINES} in the PNG" in OPTIONS["isolines"].help_text("cli")
     assert options.names("mesh") == ("robust", "refine", "weld")
+    assert options.names("output") == ("colormap", "isolines", "weight_radius", "weight_falloff", "weight_invert")
     assert set(options.names("solver")) == {"m", "boundary", "accuracy", "backend"}
 
 
@@ -284,7 +285,12 @@ def test_blender_properties_are_the_declared_ones(blender_properties):
         else:
             assert prop.function is (bpy.props.IntProperty if opt.type is int else bpy.props.FloatProperty)
             low = kw.get("min")
-            assert (low > opt.low and low == opt.ui_min) if opt.low_open else low == opt.low, name
+            if opt.default is None:  # Blender has no None: the declared Blender default stands for it
+                assert low == kw["default"] == opt.default_for("blender") and not opt._in_range(low), name
+                assert blender_properties.option_value(name, low) is None, name
+                assert blender_properties.option_value(name, 2.5) == 2.5 == opt.check(2.5), name
+            else:
+                assert (low > opt.low and low == opt.ui_min) if opt.low_open else low == opt.low, name
             assert kw.get("max") == opt.high and kw.get("soft_max") == opt.soft_max, name
     assert set(blender_properties.SOLVER_OPTIONS) <= set(declared)
     assert all(OPTIONS[n].target in ("mesh", "solver") for n in blender_properties.SOLVER_OPTIONS)

@@ -1,0 +1,254 @@
+"""Time the add-on's first click (solver built) and cached clicks (solver reused), stage by stage.
+
+Runs the real operator ``mesh.heat_geodesic_distance`` headless through
+``bpy`` with every output on (distance attribute, colors with 10 isolines,
+weight group), on meshes built in bpy: a torus of 51,200 vertices (quads)
+and Suzanne with five levels of Catmull-Clark subdivision (504,482
+vertices, the size of the issue's 504k mesh), or OBJ files given with
+``--mesh``. A cached click is a click with another selected vertex after the
+first; the core query is ``solver.distance(src)`` on the cached solver with
+the same source, timed right after each click. The cached click is split into
+stages by timing the functions the add-on calls (whatever is left is
+"other": the operator and ``bpy.ops`` around it, mode checks, the mesh
+update). Prints one line per click and the Markdown tables of docs/blender.md.
+
+Examples
+--------
+::
+
+    python scripts/bench_blender_clicks.py
+    python scripts/bench_blender_clicks.py --mesh ../shared/meshes/nefertiti.obj --clicks 5
+    python scripts/bench_blender_clicks.py --no-weights      # distance and colors only
+    python scripts/bench_blender_clicks.py --edit-mode       # clicks made in Edit Mode
+"""
+
+import argparse
+import contextlib
+import functools
+import os
+import statistics
+import time
+from collections import defaultdict
+from pathlib import Path
+
+import bpy
+import numpy as np
+from blender_addon_loader import load_addon
+
+#: Built-in meshes: name -> (label, maker).
+MESHES = {
+    "torus": ("torus 256 x 200 (quads)", lambda: _torus()),
+    "suzanne5": ("Suzanne, subdivision level 5", lambda: _suzanne(5)),
+}
+
+#: Stages of a click: (label, module attribute path relative to the add-on) timed by wrapping.
+STAGES = [
+    ("sources", "stages.resolve_sources"),
+    ("topology", "adapters.topology"),
+    ("shape", "stages.measured_positions"),
+    ("positions (key)", "adapters.vertex_positions"),
+    ("cache lookup", "cache.SOLVERS.lookup"),
+    ("colorize", "outputs.colormaps.colorize"),
+    ("write distance", "adapters.write_float_attribute"),
+    ("write colors", "adapters.write_color_attribute"),
+    ("weights", "outputs.weights.distance_weights"),
+    ("write weights", "adapters.write_vertex_group"),
+]
+
+
+def _torus():
+    bpy.ops.mesh.primitive_torus_add(major_segments=256, minor_segments=200)
+    return bpy.context.active_object
+
+
+def _suzanne(levels):
+    bpy.ops.mesh.primitive_monkey_add()
+    obj = bpy.context.active_object
+    mod = obj.modifiers.new("subdivision", "SUBSURF")
+    mod.levels = levels
+    bpy.ops.object.modifier_apply(modifier=mod.name)
+    return obj
+
+
+def make_mesh(spec):
+    """A fresh scene holding one mesh object: a built-in one (``MESHES``) or an OBJ file."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    if spec in MESHES:
+        label, maker = MESHES[spec]
+        return label, maker()
+    bpy.ops.wm.obj_import(filepath=str(spec))
+    obj = bpy.context.selected_objects[0]
+    bpy.context.view_layer.objects.active = obj
+    return Path(spec).stem, obj
+
+
+class Stages:
+    """Wraps the add-on's functions with timers; ``seconds`` holds the time of each in the last click."""
+
+    def __init__(self, addon):
+        self.seconds = defaultdict(float)
+        self.solver = None
+        self.query = 0.0
+        for label, path in STAGES:
+            self._wrap(addon, path, label)
+        self._wrap_mode_switch(addon.adapters)
+
+    def _wrap_mode_switch(self, adapters):
+        """Time ``adapters.object_mode``'s switches to Object Mode and back (Edit Mode clicks)."""
+        inner = adapters.object_mode
+
+        @contextlib.contextmanager
+        def object_mode(obj):
+            start = time.perf_counter()
+            manager = inner(obj)
+            manager.__enter__()
+            self.seconds["mode switch"] += time.perf_counter() - start
+            try:
+                yield
+            finally:
+                start = time.perf_counter()
+                manager.__exit__(None, None, None)
+                self.seconds["mode switch"] += time.perf_counter() - start
+
+        adapters.object_mode = object_mode
+
+    def _wrap(self, addon, path, label):
+        *parents, name = path.split(".")
+        owner = addon
+        for part in parents:
+            owner = getattr(owner, part, None)
+        if owner is None or not hasattr(owner, name):
+            return  # the add-on no longer has it: its time falls into "other"
+        inner = getattr(owner, name)
+
+        @functools.wraps(inner)
+        def timed(*args, **kwargs):
+            start = time.perf_counter()
+            try:
+                result = inner(*args, **kwargs)
+            finally:
+                self.seconds[label] += time.perf_counter() - start
+            if label == "cache lookup" and result is not None:
+                self._time_queries(result)
+            return result
+
+        setattr(owner, name, timed)
+
+    def _time_queries(self, solver):
+        """Time ``solver.distance`` as the click calls it (the stage "query")."""
+        if getattr(solver, "_bench_timed", False):
+            return
+        inner = solver.distance
+
+        def distance(*args, **kwargs):
+            start = time.perf_counter()
+            try:
+                return inner(*args, **kwargs)
+            finally:
+                self.seconds["query"] += time.perf_counter() - start
+
+        solver.distance, solver._bench_timed, self.solver = distance, True, solver
+        self.core_query = inner
+
+    def reset(self):
+        self.seconds.clear()
+
+
+def click(obj, vertex, write_weights):
+    if obj.mode == "EDIT":
+        import bmesh  # (importable once bpy is)
+
+        bpy.ops.mesh.select_all(action="DESELECT")
+        bm = bmesh.from_edit_mesh(obj.data)
+        bm.verts.ensure_lookup_table()
+        bm.verts[vertex].select_set(True)
+        bmesh.update_edit_mesh(obj.data)
+    else:
+        select = np.zeros(len(obj.data.vertices), dtype=bool)
+        select[vertex] = True
+        obj.data.vertices.foreach_set("select", select)
+        obj.data.update()
+    start = time.perf_counter()
+    bpy.ops.mesh.heat_geodesic_distance(isolines=10, write_weights=write_weights)
+    return time.perf_counter() - start
+
+
+def bench(addon, stages, spec, clicks, write_weights, rng, edit_mode=False):
+    label, obj = make_mesh(spec)
+    n = len(obj.data.vertices)
+    if edit_mode:
+        bpy.ops.object.mode_set(mode="EDIT")
+    addon.SOLVERS.clear()
+    stages.reset()
+    first = click(obj, 0, write_weights)
+    build = bpy.context.window_manager.heat_geodesic_stats.solver_seconds
+    print(f"{label}: {n:,} vertices; first click {first:.3f} s (solver built in {build:.3f} s)", flush=True)
+    cached, queries, breakdown = [], [], defaultdict(list)
+    for k in range(clicks):
+        vertex = int(rng.integers(n))
+        stages.reset()
+        cached.append(click(obj, vertex, write_weights))
+        assert bpy.context.window_manager.heat_geodesic_stats.cached, "the solver was not reused"
+        parts = dict(stages.seconds)
+        parts["other"] = cached[-1] - sum(parts.values())
+        for key, value in parts.items():
+            breakdown[key].append(value)
+        start = time.perf_counter()
+        stages.core_query([vertex])
+        queries.append(time.perf_counter() - start)
+        print(f"  cached click {k + 1}: {cached[-1]:.3f} s, core query {queries[-1]:.3f} s", flush=True)
+    med = statistics.median
+    return {
+        "label": label, "n": n, "first": first, "build": build, "cached": med(cached), "query": med(queries),
+        "stages": {key: med(values) for key, values in breakdown.items()},
+    }
+
+
+def tables(rows, clicks, write_weights, edit_mode=False):
+    outputs = "distance, colors (10 isolines), weights" if write_weights else "distance, colors (10 isolines)"
+    outputs += "; clicks in Edit Mode" if edit_mode else "; clicks in Object Mode"
+    lines = [
+        f"| mesh | vertices | first click | solver build | cached click (median of {clicks}) | core query | "
+        "cached / query |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        lines.append(f"| {r['label']} | {r['n']:,} | {r['first']:.2f} s | {r['build']:.2f} s | "
+                     f"{r['cached']:.3f} s | {r['query']:.3f} s | {r['cached'] / r['query']:.2f} |")
+    keys = ["query"] + [label for label, _ in STAGES] + ["mode switch", "other"]
+    keys = [k for k in keys if any(r["stages"].get(k, 0.0) >= 5e-5 for r in rows)]
+    lines += ["", f"Cached click by stage (median seconds; outputs: {outputs}):", "",
+              "| stage | " + " | ".join(f"{r['n']:,} vertices" for r in rows) + " |",
+              "|---|" + "---|" * len(rows)]
+    for key in keys:
+        lines.append(f"| {key} | " + " | ".join(f"{r['stages'].get(key, 0.0):.4f}" for r in rows) + " |")
+    return "\n".join(lines)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--mesh", action="append",
+                        help=f"OBJ file or one of {', '.join(MESHES)} (repeatable; default: torus and suzanne5)")
+    parser.add_argument("--clicks", type=int, default=5, help="cached clicks to time on each mesh")
+    parser.add_argument("--no-weights", dest="weights", action="store_false", help="no weight-group output")
+    parser.add_argument("--edit-mode", action="store_true", help="click in Edit Mode (default: Object Mode)")
+    parser.add_argument("--markdown", help="also write the tables to this file")
+    args = parser.parse_args(argv)
+
+    addon = load_addon()
+    stages = Stages(addon)
+    rng = np.random.default_rng(0)
+    rows = [bench(addon, stages, spec, args.clicks, args.weights, rng, args.edit_mode)
+            for spec in args.mesh or list(MESHES)]
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    text = tables(rows, args.clicks, args.weights, args.edit_mode)
+    text += f"\n\n({os.cpu_count()} CPU cores; load average {load:.2f} at the end of the run.)\n"
+    print()
+    print(text)
+    if args.markdown:
+        Path(args.markdown).write_text(text)
+    addon.unregister()
+
+
+if __name__ == "__main__":
+    main()
