@@ -70,16 +70,24 @@ def _suzanne(levels):
     return obj
 
 
-def make_mesh(spec):
-    """A fresh scene holding one mesh object: a built-in one (``MESHES``) or an OBJ file."""
+def make_mesh(path=None, levels=4):
+    """A fresh scene holding one mesh object: an OBJ file, or Suzanne with ``levels`` of subdivision applied."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    if spec in MESHES:
-        label, maker = MESHES[spec]
-        return label, maker()
-    bpy.ops.wm.obj_import(filepath=str(spec))
+    if not path:
+        return _suzanne(levels)
+    bpy.ops.wm.obj_import(filepath=str(path))
     obj = bpy.context.selected_objects[0]
     bpy.context.view_layer.objects.active = obj
-    return Path(spec).stem, obj
+    return obj
+
+
+def bench_mesh(spec):
+    """(label, object) of a built-in mesh (``MESHES``) or an OBJ file, in a fresh scene."""
+    if spec in MESHES:
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+        label, maker = MESHES[spec]
+        return label, maker()
+    return Path(spec).stem, make_mesh(spec)
 
 
 class Stages:
@@ -174,7 +182,7 @@ def click(obj, vertex, write_weights):
 
 
 def bench(addon, stages, spec, clicks, write_weights, rng, edit_mode=False):
-    label, obj = make_mesh(spec)
+    label, obj = bench_mesh(spec)
     n = len(obj.data.vertices)
     if edit_mode:
         bpy.ops.object.mode_set(mode="EDIT")

@@ -27,7 +27,7 @@ import importlib
 import time
 
 import bpy
-from bench_blender_cache import make_mesh
+from bench_blender_clicks import make_mesh
 from blender_addon_loader import load_addon
 
 TICK = 0.01
