@@ -324,21 +324,11 @@ def write_vertex_group(obj, name, weights):
 def _convert_to_vertex_group():
     """Run *Convert Attribute* (mode ``VERTEX_GROUP``) on the context's active attribute, with no undo step.
 
-    Returns whether it finished.
-
-    ``bpy.ops`` wraps the call between two view-layer updates; the second
-    shares the new weights with the evaluated mesh, so that the ``add`` that
-    follows copies them all (30 ms at 500k vertices). The operator's own entry
-    point (what ``bpy.ops`` calls, stable since Blender 2.80) skips both; the
-    public call is the fallback.
+    Returns whether it finished. (Through ``bpy.ops``, which updates the view
+    layer around the call: about 30 ms at 500k vertices. Blender's private
+    operator entry point would skip that; it is not used.)
     """
-    try:
-        from _bpy import ops as _ops
-
-        result = _ops.call("geometry.attribute_convert", {"mode": "VERTEX_GROUP"}, "EXEC_DEFAULT", False)
-    except (ImportError, AttributeError, TypeError):
-        result = bpy.ops.geometry.attribute_convert("EXEC_DEFAULT", False, mode="VERTEX_GROUP")
-    return "FINISHED" in result
+    return "FINISHED" in bpy.ops.geometry.attribute_convert("EXEC_DEFAULT", False, mode="VERTEX_GROUP")
 
 
 def _write_group_by_value(obj, name, w):

@@ -37,6 +37,10 @@ def _load(name, path, package_dir=None):
 
 @pytest.fixture(scope="module")
 def addon():
+    # A fresh package each time: submodules left in sys.modules by an earlier load would not be
+    # set as attributes of the new package (addon.shape, addon.adapters, ...).
+    for name in [n for n in sys.modules if n == "blender_addon" or n.startswith("blender_addon.")]:
+        del sys.modules[name]
     module = _load("blender_addon", REPO / "blender_addon" / "__init__.py", REPO / "blender_addon")
     module.register()
     yield module
