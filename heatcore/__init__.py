@@ -24,6 +24,7 @@ from .errors import (
     InvalidSourceError,
     SolverError,
 )
+from .contours import Isoline, isolines
 from .heat import HeatSolver
 
 __version__ = "0.1.0"
@@ -36,6 +37,7 @@ __all__ = [
     "InvalidMeshError",
     "InvalidOptionError",
     "InvalidSourceError",
+    "Isoline",
     "Operators",
     "PointCloud",
     "PolygonMesh",
@@ -44,6 +46,7 @@ __all__ = [
     "TriangleMesh",
     "geodesic_distance",
     "io",
+    "isolines",
     "linalg",
     "options",
 ]
