@@ -43,6 +43,8 @@ import numpy as np
 from .domains.validate import index_array, vertex_array
 from .errors import InvalidOptionError
 
+#: A point this many units in the last place (of the coordinates) from a vertex is put on the vertex.
+SNAP_ULPS = 8
 #: The corners of each face edge: edge ``k`` runs from corner ``k`` to corner ``k + 1``.
 _NEXT = np.array([1, 2, 0])
 
@@ -248,10 +250,20 @@ def _polylines(V, values, levels, node_level, node_below, node_above, seg_start,
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         t = (c - va) / (vb - va)
     on_vertex = (vb == c) | ~(t < 1.0)  # the upper vertex is at the level (or t rounds to 1)
-    edge_a = np.where(on_vertex, node_above, node_below)
-    t = np.where(on_vertex, 0.0, t)
+    t[on_vertex] = 0.0
+    edge_a, edge_b = np.where(on_vertex, node_above, node_below), node_above.copy()
+    node_points = V[edge_a] + t[:, None] * (V[edge_b] - V[edge_a]) + 0.0  # + 0.0: no -0.0
+    # A point within rounding of a vertex is that vertex: the points of two edges of a vertex never
+    # coincide otherwise (a level 1e-16 above a vertex's value), and every face around it holds it.
+    tol = SNAP_ULPS * np.finfo(float).eps * np.maximum(np.abs(V[node_below]).max(axis=1),
+                                                       np.abs(V[node_above]).max(axis=1))
+    for end in (node_below, node_above):
+        snap = np.abs(node_points - V[end]).max(axis=1) <= tol
+        edge_a[snap], edge_b[snap], t[snap], node_points[snap] = end[snap], end[snap], 0.0, V[end[snap]]
     # nodes whose points coincide (the edges around a vertex at the level) share a point id
-    _, point_id = _group((node_level, edge_a, node_above), (len(levels), len(values), len(values)))
+    rows = np.ascontiguousarray(node_points).view(np.dtype((np.void, node_points.dtype.itemsize * 3))).ravel()
+    _, position = np.unique(rows, return_inverse=True)
+    _, point_id = _group((node_level, position.ravel()), (len(levels), len(rows)))
 
     nxt, head = _links(seg_start, seg_end, len(node_level))
     tail = head[np.arange(len(head)) ^ 1]
@@ -284,8 +296,7 @@ def _polylines(V, values, levels, node_level, node_below, node_above, seg_start,
     p_node, p_arrive, p_chain, pid = p_node[keep], p_arrive[keep], p_chain[keep], pid[keep]
     p_face = seg_face[p_arrive // 2]  # the face of the segment ending at each point (junk at a start)
     close_face = seg_face[last // 2]
-    a, b, tt = edge_a[p_node], node_above[p_node], t[p_node]
-    points = V[a] + tt[:, None] * (V[b] - V[a])
+    a, b, tt, points = edge_a[p_node], edge_b[p_node], t[p_node], node_points[p_node]
     edges = np.stack([a, b], axis=1)
 
     counts = np.bincount(p_chain, minlength=len(starts))
