@@ -50,6 +50,7 @@ from .steps.blocks import block_columns, source_sequence
 from .steps.poisson import MAX_PRECOMPUTED_PINS, PinnedPoisson, grounded
 from .steps.time_step import underflow_safe_m
 from .steps.unit_field import minus_divergence, minus_divergence_columns, unit_field
+from .voronoi import VoronoiQueries
 
 log = logging.getLogger("heatcore")
 
@@ -59,7 +60,7 @@ _DOMAIN_FACTORS = weakref.WeakKeyDictionary()
 #: The solver's options, declared in :mod:`heatcore.options`.
 OPTION_NAMES = ("m", "boundary", "accuracy", "backend")
 
-class HeatSolver:
+class HeatSolver(VoronoiQueries):
     """Prefactored heat-method distance on one domain; cheap queries.
 
     Parameters

@@ -14,7 +14,7 @@ never up and never sideways to a sibling group):
     front ends   apps/ (and heatcore.__main__)  |  blender_addon/
     api          heatcore/__init__.py
     io | viz     io/ (file readers and writers)  |  viz/ (colormaps, renderer)  |  weights.py
-    solver       heat.py, eikonal.py, reference.py
+    solver       heat.py, eikonal.py, reference.py, contours.py, voronoi.py
     domains      domains/
     linalg       linalg/ (knows no geometry)
     foundation   errors.py, options.py, progress.py
@@ -68,7 +68,7 @@ LAYERS = [
                    "heatcore.triangle", "heatcore.validate", "heatcore.weld"])]),
     ("solver", [("solver", "the heat method and its steps, the eikonal pass, reference distances",
                  ["heatcore.heat", "heatcore.heat.*", "heatcore.steps", "heatcore.steps.*", "heatcore.eikonal",
-                  "heatcore.eikonal.*", "heatcore.reference"])]),
+                  "heatcore.eikonal.*", "heatcore.reference", "heatcore.contours", "heatcore.voronoi"])]),
     ("io | viz", [("io", "reading and writing files; raises core errors",
                    ["heatcore.io", "heatcore.io.*", "heatcore.domain_io", "heatcore.ply",
                     "heatcore.pointcloud_io", "heatcore.polygon_io", "heatcore.tet_io"]),
