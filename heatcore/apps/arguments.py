@@ -153,8 +153,34 @@ def distance_arguments(p):
                         "the input's other vertex properties are not kept")
     add_output_options(p, png_help="also write a PNG picture of the distance field (matplotlib); "
                                    "a name ending in .png")
+    p.add_argument("--isolines-out", nargs=2, action=_IsolinesOut, default=None, metavar=("PATH", "N"),
+                   help="also write N isoline curves of the distance as polylines in an OBJ file (v and l "
+                        "elements: edges in MeshLab and Blender), at max*j/(N+1) for j = 1..N, the levels of "
+                        "the --isolines stripes")
     add_solver_options(p)
     add_common_options(p)
+
+
+class _IsolinesOut(argparse.Action):
+    """``--isolines-out PATH N``: ``(Path, int)``, ``N`` at least 1 (a usage error otherwise).
+
+    Examples
+    --------
+    >>> p = _Parser(prog="demo")
+    >>> _ = p.add_argument("--isolines-out", nargs=2, action=_IsolinesOut)
+    >>> p.parse_args(["--isolines-out", "c.obj", "8"]).isolines_out
+    (PosixPath('c.obj'), 8)
+    """
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        path, count = values
+        try:
+            count = _non_negative_int(count)
+        except argparse.ArgumentTypeError as exc:
+            parser.error(f"argument {option_string}: N {exc}")
+        if count < 1:
+            parser.error(f"argument {option_string}: N must be at least 1, got {count}")
+        setattr(namespace, self.dest, (Path(path), count))
 
 
 def demo_arguments(p):

@@ -56,6 +56,7 @@ from .outputs import (  # noqa: F401 (check_outputs_fit, OUTPUT_SUFFIXES: part o
     check_output_paths,
     check_outputs_fit,
     render_png,
+    write_isolines,
     write_output,
 )
 from .reporting import _seconds, _show_warning, _stage, _StderrHandler, _summary
@@ -168,13 +169,15 @@ def run_distance(args):
     (0.0, (2930,))
     >>> tmp.cleanup()
     """
-    if not args.output and args.png is None:
-        raise UsageError("nothing to write: give -o/--output FILE (.ply, .npy, .csv) and/or --png PATH")
-    check_output_paths(args.output, args.png, [args.mesh, *(args.sources_file or [])], args.overwrite)
+    curves = args.isolines_out[0] if args.isolines_out else None
+    if not args.output and args.png is None and curves is None:
+        raise UsageError("nothing to write: give -o/--output FILE (.ply, .npy, .csv), --png PATH "
+                         "and/or --isolines-out PATH N")
+    check_output_paths(args.output, args.png, [args.mesh, *(args.sources_file or [])], args.overwrite, curves)
     given = command_line_sources(args)
     with _stage("read mesh"):
         mesh = read_mesh_file(args.mesh, args.domain)
-    check_outputs_fit(args.output, args.png, mesh.kind)
+    check_outputs_fit(args.output, args.png, mesh.kind, curves)
     log.info("%s: %d vertices", {"points": "point cloud", "tet": "tetrahedral mesh"}.get(mesh.kind, f"{mesh.kind} mesh"),
              len(mesh.vertices))
     sources, origin = gather_sources(args, mesh, given)
@@ -199,6 +202,10 @@ def run_distance(args):
             render_png(args.png, mesh.vertices, mesh.surface, d, sources, args.colormap, args.isolines,
                        title=args.mesh.name)
         print(f"wrote {args.png}")
+    if curves is not None:
+        with _stage("isolines"):
+            written = write_isolines(curves, mesh.vertices, mesh.surface, d, args.isolines_out[1])
+        print(f"wrote {curves}  ({len(written)} isoline curves)")
     return 0
 
 

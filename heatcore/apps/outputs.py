@@ -116,7 +116,7 @@ def _same_file(a, b):
         return False
 
 
-def check_output_paths(outputs, png=None, inputs=(), overwrite=False):
+def check_output_paths(outputs, png=None, inputs=(), overwrite=False, curves=None):
     """Refuse unusable output names before any work.
 
     Parameters
@@ -129,11 +129,13 @@ def check_output_paths(outputs, png=None, inputs=(), overwrite=False):
         Files the command reads (mesh, sources files).
     overwrite : bool
         Allow an output to replace an input.
+    curves : path-like, optional
+        The isoline curves (``--isolines-out``), an ``.obj`` file.
 
     Raises
     ------
     UsageError
-        Unknown extension, a picture not named ``.png``, a name given twice,
+        Unknown extension, a picture not named ``.png``, curves not named ``.obj``, a name given twice,
         an output that is an input (without ``overwrite``).
     CliError
         A missing output folder, or an output that is a folder.
@@ -155,6 +157,11 @@ def check_output_paths(outputs, png=None, inputs=(), overwrite=False):
         if png.suffix.lower() != ".png":
             raise UsageError(f"--png {png}: the picture is a PNG file; give a name ending in .png")
         outputs.append(png)
+    if curves is not None:
+        curves = Path(curves)
+        if curves.suffix.lower() != ".obj":
+            raise UsageError(f"--isolines-out {curves}: the curves are an OBJ file; give a name ending in .obj")
+        outputs.append(curves)
     for i, out in enumerate(outputs):
         if any(out == other or _same_file(out, other) for other in outputs[:i]):
             raise UsageError(f"output {out} is given twice")
@@ -168,7 +175,7 @@ def check_output_paths(outputs, png=None, inputs=(), overwrite=False):
             raise CliError(f"cannot write {out}: it is a folder")
 
 
-def check_outputs_fit(outputs, png, kind):
+def check_outputs_fit(outputs, png, kind, curves=None):
     """Refuse outputs that cannot hold this kind of domain, before the precompute.
 
     Parameters
@@ -180,12 +187,14 @@ def check_outputs_fit(outputs, png, kind):
     kind : str
         The domain's kind (:attr:`heatcore.io.domain.DomainFile.kind`):
         ``"triangle"``, ``"polygon"``, ``"tet"`` or ``"points"``.
+    curves : path-like, optional
+        The isoline curves (``--isolines-out``).
 
     Raises
     ------
     CliError
         A volume format for a surface, a ``.ply`` for a tetrahedral mesh, or a
-        picture of a point cloud.
+        picture or isoline curves of a point cloud.
 
     Examples
     --------
@@ -203,6 +212,8 @@ def check_outputs_fit(outputs, png, kind):
             raise CliError(f"output {out}: a tetrahedral mesh is written as .vtu, .vtk or .msh (or .npy/.csv)")
     if kind == "points" and png is not None:
         raise CliError("--png draws surfaces; a point cloud has none (write .ply, .npy or .csv)")
+    if kind == "points" and curves is not None:
+        raise CliError("--isolines-out draws curves on surfaces; a point cloud has none (write .ply, .npy or .csv)")
 
 
 def write_output(path, V, F, d, sources, colormap, isolines):
@@ -313,3 +324,45 @@ def render_png(path, V, F, d, sources, colormap, isolines, title=None, view=None
             tmp, V, F, d, sources=sources, colormap=colormap,
             isolines=PNG_ISOLINES if isolines is None else isolines, title=title, **(view or {}),
         )
+
+
+def write_isolines(path, V, F, d, count):
+    """Write ``count`` isoline curves of the distances as OBJ polylines, atomically.
+
+    The levels are ``max * j / (count + 1)``, ``j = 1..count``
+    (:func:`heatcore.contours.isoline_levels`); curves of the surface
+    triangles ``F`` (:func:`heatcore.isolines`), written by
+    :func:`heatcore.io.curves.write_obj_curves` with a comment naming each
+    curve's level.
+
+    Returns
+    -------
+    list of Isoline
+        The curves written.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+    >>> curves = write_isolines(Path(tmp.name) / "c.obj", V, [[0, 1, 2]], np.array([0.0, 1.0, 1.0]), 1)
+    >>> print((Path(tmp.name) / "c.obj").read_text().strip())
+    # heatcore isolines: 1 levels of the distance at max*j/2, j = 1..1 (max 1)
+    # isoline 0: level 0.5, 2 points, open
+    v 0 0.5 0
+    v 0.5 0 0
+    l 1 2
+    >>> tmp.cleanup()
+    """
+    from ..contours import isolines
+    from ..io.curves import write_obj_curves
+
+    curves = isolines(V, F, d, count)
+    finite = np.isfinite(d)
+    vmax = float(d[finite].max()) if finite.any() else float("nan")
+    header = f"heatcore isolines: {count} levels of the distance at max*j/{count + 1}, j = 1..{count} (max {vmax:.17g})"
+    labels = [f"isoline {j}: level {c.level:.17g}, {len(c.points)} points, {'closed' if c.closed else 'open'}"
+              for j, c in enumerate(curves)]
+    with atomic_output(path) as tmp:
+        write_obj_curves(tmp, curves, header=header, labels=labels)
+    return curves
