@@ -3,8 +3,11 @@
 The mesh is projected orthographically, shaded (Lambert plus ambient light,
 normals averaged at the vertices), colored by distance with a perceptual
 colormap (:mod:`heatcore.viz.colormap`) and drawn back to front (painter's
-algorithm). Isolines are exact level sets of the piecewise-linear distance,
-drawn in the same back-to-front pass so that nearer surfaces hide them.
+algorithm). Isolines are the curves of :func:`heatcore.isolines` on the input
+mesh (exact level sets of the piecewise-linear distance, at the levels of
+:func:`heatcore.contours.isoline_levels`), projected with the same camera and
+drawn segment by segment in the same back-to-front pass, so that nearer
+surfaces hide them.
 
 matplotlib is imported inside the functions: ``import heatcore`` never
 loads it.
@@ -24,6 +27,8 @@ True
 
 import numpy as np
 
+from ..contours import isoline_levels
+from ..contours import isolines as isoline_curves
 from ..errors import InvalidOptionError
 from .colormap import COLORMAPS, UNREACHABLE_COLOR, colorize
 
@@ -99,55 +104,6 @@ def _smooth(V, F, d):
     return sub.vertices, sub.faces, dd
 
 
-def isoline_segments(P, F, d, levels):
-    """Level-set segments of a piecewise-linear function on triangles.
-
-    Parameters
-    ----------
-    P : (n, k) float array, vertex positions
-    F : (m, 3) int array
-    d : (n,) float array, values (non-finite values give no segments)
-    levels : sequence of float
-
-    Returns
-    -------
-    segments : (s, 2, k) float array
-    face : (s,) int array, the triangle each segment lies in
-
-    Examples
-    --------
-    >>> P = np.array([[0, 0], [1, 0], [0, 1]], float)
-    >>> segments, face = isoline_segments(P, np.array([[0, 1, 2]]), np.array([0.0, 1.0, 1.0]), [0.5])
-    >>> segments.tolist(), face.tolist()
-    ([[[0.5, 0.0], [0.0, 0.5]]], [0])
-    """
-    segs, owner = [], []
-    ends = ((0, 1), (1, 2), (2, 0))
-    finite = np.all(np.isfinite(d[F]), axis=1)
-    Fi = F[finite]
-    ids = np.flatnonzero(finite)
-    D = d[Fi]
-    for c in levels:
-        above = D >= c
-        crosses = np.stack([above[:, a] != above[:, b] for a, b in ends], axis=1)
-        hit = crosses.sum(axis=1) == 2
-        if not hit.any():
-            continue
-        pts = []
-        for a, b in ends:
-            da, db = D[hit, a], D[hit, b]
-            denom = np.where(db != da, db - da, 1.0)
-            s = np.clip((c - da) / denom, 0.0, 1.0)[:, None]
-            pts.append(P[Fi[hit, a]] + s * (P[Fi[hit, b]] - P[Fi[hit, a]]))
-        pts = np.stack(pts, axis=1)  # (h, 3 edges, k)
-        order = np.argsort(~crosses[hit], axis=1, kind="stable")[:, :2]  # the two crossed edges
-        segs.append(np.take_along_axis(pts, order[:, :, None], axis=1))
-        owner.append(ids[hit])
-    if not segs:
-        return np.zeros((0, 2, P.shape[1])), np.zeros(0, dtype=np.int64)
-    return np.concatenate(segs), np.concatenate(owner)
-
-
 def render_distance(
     path,
     V,
@@ -178,7 +134,8 @@ def render_distance(
     colormap : str
         A colormap of :mod:`heatcore.viz.colormap`.
     isolines : int
-        Evenly spaced isolines between 0 and the largest finite distance (0: none).
+        Isolines at ``max * j / (isolines + 1)``, ``j = 1..isolines`` (0: none): the curves of
+        :func:`heatcore.isolines`, the levels of the stripes of :func:`~heatcore.viz.colormap.colorize`.
     elevation, azimuth : float
         Camera angles in degrees (see :func:`camera_rotation`).
     up : {"x", "y", "z"}
@@ -217,10 +174,14 @@ def render_distance(
     vmax = vmax if vmax > 0 else 1.0
 
     closed = _is_closed(F)
+    R = camera_rotation(elevation, azimuth, up)
+    center = V.mean(axis=0)
+    levels = isoline_levels(d, isolines)
+    curves = isoline_curves(V, F, d, levels) if levels.size else []
+    P0, F0 = (V - center) @ R.T, F  # the input mesh in camera coordinates: the curves' faces
     if len(F) < SMOOTH_BELOW_FACES:
         V, F, d = _smooth(V, F, d)
-    R = camera_rotation(elevation, azimuth, up)
-    P = (V - V.mean(axis=0)) @ R.T  # camera coordinates; z towards the viewer
+    P = (V - center) @ R.T  # camera coordinates; z towards the viewer
     vn, fn = _vertex_normals(P, F)
 
     # Shading: Lambert with normals averaged at the vertices, then per face.
@@ -243,16 +204,17 @@ def render_distance(
     edge_colors = list(face_rgb[keep])
     widths = [0.5] * int(keep.sum())
 
-    if isolines:
-        levels = vmax * np.arange(1, isolines + 1) / (isolines + 1)
-        segs, owner = isoline_segments(P, F, d, levels)
-        visible = keep[owner]
+    if curves:
+        # Each segment of a curve lies in one input face: drawn where that face faces the viewer,
+        # lifted above the face's nearest corner so that the strokes of neighboring faces do not
+        # cover it (a nearer surface still does).
+        segs, owner = _curve_segments(curves, R, center)
+        facing0 = np.cross(P0[F0[:, 1]] - P0[F0[:, 0]], P0[F0[:, 2]] - P0[F0[:, 0]])[:, 2] > 0
+        visible = facing0[owner] if closed else np.ones(len(owner), bool)
         segs, owner = segs[visible], owner[visible]
-        # Lift each segment above its face's nearest corner so that the strokes
-        # of neighboring faces do not cover it (a nearer surface still does).
         bias = 0.25 * np.linalg.norm(P[F[:, 1]] - P[F[:, 0]], axis=1).mean()
         items_poly += list(segs[:, :, :2])
-        items_depth += list(P[F[owner], 2].max(axis=1) + bias)
+        items_depth += list(P0[F0[owner], 2].max(axis=1) + bias)
         line_rgb = (0.08, 0.08, 0.08)
         face_colors += [(0, 0, 0, 0)] * len(segs)
         edge_colors += [line_rgb] * len(segs)
@@ -269,6 +231,8 @@ def render_distance(
         linewidths=[widths[i] for i in order],
         closed=False,
         antialiased=True,
+        capstyle="round",  # consecutive segments of a curve join without notches
+        joinstyle="round",
     )
     ax.add_collection(coll)
     if sources is not None and len(sources):
@@ -290,11 +254,19 @@ def render_distance(
     cmap = ListedColormap(colorize(np.linspace(0, 1, 256), colormap, vmax=1.0))
     bar = fig.colorbar(ScalarMappable(Normalize(0, vmax), cmap), cax=cax)
     bar.set_label("geodesic distance")
-    if isolines:
-        for level in levels:
-            bar.ax.axhline(level, color="0.08", linewidth=0.8)
+    for level in levels:
+        bar.ax.axhline(level, color="0.08", linewidth=0.8)
     if not finite.all():
         fig.text(0.84, 0.14, "gray: unreachable", fontsize=8, color=UNREACHABLE_COLOR)
     if title:
         fig.suptitle(title, fontsize=12)
     fig.savefig(path, dpi=dpi, facecolor="white")
+
+
+def _curve_segments(curves, R, center):
+    """The segments of :class:`~heatcore.Isoline` curves in camera coordinates ``(s, 2, 3)``, and the
+    input face each lies in."""
+    starts = [c.points if c.closed else c.points[:-1] for c in curves]
+    ends = [np.roll(c.points, -1, axis=0) if c.closed else c.points[1:] for c in curves]
+    segs = np.stack([np.concatenate(starts), np.concatenate(ends)], axis=1)
+    return (segs - center) @ R.T, np.concatenate([c.faces for c in curves])
