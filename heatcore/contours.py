@@ -20,11 +20,9 @@ or a single vertex at the level among lower values, gives no curve. Faces
 with a non-finite value (``inf`` where no source reaches, NaN) get no
 segment.
 
-Each point lies on a mesh edge, ``(1 - t) V[a] + t V[b]`` with ``t`` the
-linear interpolation of the level between the values at ``a`` and ``b``, or
-on a vertex; each segment lies in one face. Curves are oriented with the
-higher values on their left seen from the side the faces' normals point to
-(faces ordered counterclockwise).
+Each point lies on a mesh edge, ``(1 - t) V[a] + t V[b]`` with ``t`` interpolating the level
+linearly between the values at ``a`` and ``b``, or on a vertex; each segment lies in one face.
+Curves have the higher values on their left, seen from where the faces turn counterclockwise.
 
 Examples
 --------
@@ -294,18 +292,15 @@ def _polylines(V, values, levels, node_level, node_below, node_above, seg_start,
     pid = point_id[p_node]
     keep = np.r_[True, (pid[1:] != pid[:-1]) | (p_chain[1:] != p_chain[:-1])]
     p_node, p_arrive, p_chain, pid = p_node[keep], p_arrive[keep], p_chain[keep], pid[keep]
-    p_face = seg_face[p_arrive // 2]  # the face of the segment ending at each point (junk at a start)
-    close_face = seg_face[last // 2]
-    a, b, tt, points = edge_a[p_node], edge_b[p_node], t[p_node], node_points[p_node]
-    edges = np.stack([a, b], axis=1)
+    edges, tt, points = np.stack([edge_a[p_node], edge_b[p_node]], axis=1), t[p_node], node_points[p_node]
 
     counts = np.bincount(p_chain, minlength=len(starts))
     first = np.cumsum(counts) - counts
     last_point = first + counts - 1
     # the face of the segment from each point to the next (a closed curve's last: back to its first)
-    faces = np.empty_like(p_face)
-    faces[:-1] = p_face[1:]
-    faces[last_point] = close_face
+    faces = np.empty_like(p_arrive)
+    faces[:-1] = seg_face[p_arrive[1:] // 2]  # the face of the segment arriving at the next point
+    faces[last_point] = seg_face[last // 2]
     # a spike: the curve runs out along an edge at the level and straight back
     nxt_pid, prv_pid = np.empty_like(pid), np.empty_like(pid)
     nxt_pid[:-1], prv_pid[1:] = pid[1:], pid[:-1]
@@ -451,6 +446,4 @@ def _without_spurs(pid, rows, faces, closed):
                 faces[: i - j] + faces[i + j :]
         if len(pid) < 2:
             return
-    if closed and len(pid) < 3:  # cannot happen without a spike; kept for safety
-        closed = False
-    yield np.array(rows), np.array(faces), closed
+    yield np.array(rows), np.array(faces), closed  # a closed one has 3 points or more (2 make a spike)
