@@ -124,20 +124,22 @@ def test_sphere_latitudes_are_one_closed_curve_each():
     assert len({tuple(p) for p in equator.points.tolist()}) == len(equator.points)
 
 
-def test_levels_count_evenly_spaced_like_the_stripes():
+def test_levels_count_evenly_spaced():
     V, F = grid(21)
     d = np.linalg.norm(V - [-1, -1, 0], axis=1)
     curves = hc.isolines(V, F, d, 3)
     vmax = d.max()
     assert [c.level for c in curves] == pytest.approx([vmax / 4, vmax / 2, 3 * vmax / 4], rel=1e-15)
     assert isoline_levels(d, 3).tolist() == [c.level for c in curves]
-    # the dark stripes of colorize(isolines=3) are centred on the same levels
-    x = np.linspace(0, vmax, 4001)
-    dark = colorize(x, isolines=3).sum(axis=1) < 0.5 * colorize(x).sum(axis=1)
-    runs = np.split(x[dark], np.flatnonzero(np.diff(np.flatnonzero(dark)) > 1) + 1)
-    assert [float(np.mean(r)) for r in runs] == pytest.approx([vmax / 4, vmax / 2, 3 * vmax / 4], abs=vmax / 2000)
-    assert isoline_levels([-1.0, 1.0, np.nan], 1).tolist() == [0.0]
+    assert isoline_levels([-1.0, 1.0, np.nan], 1).tolist() == [0.0]  # a signed field: from its minimum
     assert hc.isolines(V, F, d, 0) == [] and hc.isolines(V, F, np.ones(len(V)), 5) == []
+    # explicit levels through the dark stripes of colorize(isolines=N), at the multiples of max / N
+    stripes = vmax * np.arange(1, 4) / 4
+    x = np.linspace(0, vmax, 4001)
+    dark = colorize(x, isolines=4).sum(axis=1) < 0.5 * colorize(x).sum(axis=1)
+    runs = np.split(x[dark], np.flatnonzero(np.diff(np.flatnonzero(dark)) > 1) + 1)
+    assert [float(np.mean(r)) for r in runs[1:4]] == pytest.approx(stripes.tolist(), abs=vmax / 2000)  # [0]: at 0+
+    assert [c.level for c in hc.isolines(V, F, d, stripes)] == stripes.tolist()
 
 
 # --------------------------------------------------------------------------- degenerate levels

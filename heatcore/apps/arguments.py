@@ -156,7 +156,7 @@ def distance_arguments(p):
     p.add_argument("--isolines-out", nargs=2, action=_IsolinesOut, default=None, metavar=("PATH", "N"),
                    help="also write N isoline curves of the distance as polylines in an OBJ file (v and l "
                         "elements: edges in MeshLab and Blender), at max*j/(N+1) for j = 1..N, the levels of "
-                        "the --isolines stripes")
+                        "the PNG's lines")
     add_solver_options(p)
     add_common_options(p)
 

@@ -210,12 +210,11 @@ def colorize(distance, colormap="viridis", isolines=0, vmax=None, stripe_width=0
     colormap : str
         One of ``COLORMAPS``.
     isolines : int
-        Number of dark stripes, centred on the distances ``vmax * j / (isolines + 1)`` for
-        ``j = 1..isolines`` (the levels of :func:`heatcore.isolines` given the same count); 0 for none.
+        Number of evenly spaced isolines between 0 and ``vmax`` (0 for none).
     vmax : float, optional
         Distance mapped to the top of the colormap (default: largest finite distance).
     stripe_width : float
-        Stripe width as a fraction of the spacing between isolines.
+        Stripe width as a fraction of the isoline spacing.
 
     Returns
     -------
@@ -238,11 +237,10 @@ def colorize(distance, colormap="viridis", isolines=0, vmax=None, stripe_width=0
     lo = np.minimum(pos.astype(int), len(table) - 2)
     frac = (pos - lo)[:, None]
     rgb = (1 - frac) * table[lo] + frac * table[lo + 1]
-    if isolines:  # at vmax * j / (isolines + 1): the levels of heatcore.isolines(..., isolines)
-        scaled = x * (isolines + 1)
-        nearest = np.round(scaled)
-        near = (np.abs(scaled - nearest) < 0.5 * stripe_width) & (nearest >= 1) & (nearest <= isolines)
-        rgb[near] *= 0.25
+    if isolines:
+        phase = (x * isolines) % 1.0
+        near = np.minimum(phase, 1.0 - phase) < 0.5 * stripe_width
+        rgb[near & (x > 0)] *= 0.25
     rgb[~finite] = UNREACHABLE_COLOR
     return rgb
 

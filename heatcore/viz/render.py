@@ -135,7 +135,7 @@ def render_distance(
         A colormap of :mod:`heatcore.viz.colormap`.
     isolines : int
         Isolines at ``max * j / (isolines + 1)``, ``j = 1..isolines`` (0: none): the curves of
-        :func:`heatcore.isolines`, the levels of the stripes of :func:`~heatcore.viz.colormap.colorize`.
+        :func:`heatcore.isolines` (:func:`heatcore.contours.isoline_levels`).
     elevation, azimuth : float
         Camera angles in degrees (see :func:`camera_rotation`).
     up : {"x", "y", "z"}
