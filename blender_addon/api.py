@@ -85,7 +85,7 @@ def compute_geodesic_distance(
         A colormap of ``heatcore.viz.colormap.COLORMAPS`` (viridis, magma, ...).
     isolines : int
         Number of isolines (0 for none): dark stripes in the vertex colors,
-        and the isoline material's lines (spacing: largest distance / isolines).
+        and the isoline material's lines (spacing: largest distance / (isolines + 1)).
     normalize : bool
         Divide the distance attribute by the largest distance (values in [0, 1]).
     weight_group : str, optional

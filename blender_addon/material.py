@@ -335,5 +335,5 @@ def isoline_legend(obj):
         return None
     top = nodes["Colormap Position"].inputs[1].default_value
     spacing = nodes["Isoline Band"].inputs[1].default_value if nodes["Isolines"].inputs[1].default_value else 0.0
-    count = int(np.floor(top / spacing * (1 + 1e-6))) if spacing > 0 else 0
+    count = int(np.ceil(top / spacing * (1 - 1e-6))) - 1 if spacing > 0 else 0  # lines below the top
     return IsolineLegend(nodes["Colormap"], top, spacing, count, material[MARKER], modifier, material)

@@ -131,7 +131,7 @@ def write_outputs(obj, d, space, *, attribute, color_attribute, colormap, isolin
             adapters.write_vertex_group(obj, weight_group, w)
         mesh.update()
     if isoline_material:
-        spacing = isoline_spacing or (dmax / isolines if isolines else 0.0)
+        spacing = isoline_spacing or (dmax / (isolines + 1) if isolines else 0.0)
         show_isoline_material(obj, attribute, colormap=colormap, max_distance=dmax, spacing=spacing,
                               attribute_scale=1.0 / scale, line_width=isoline_width, space=space)
     return dmax

@@ -101,9 +101,9 @@ def isoline_levels(values, count):
 
     ``hi`` is the largest finite value and ``lo`` the smaller of 0 and the
     smallest finite value: for a distance field (no negative values) the
-    levels are ``max * j / (count + 1)``, the lines of the PNG picture (the
-    vertex-color stripes of :func:`heatcore.viz.colormap.colorize` sit at the
-    multiples of ``max / count`` instead: pass those as levels to match them).
+    levels are ``max * j / (count + 1)``, the lines of the PNG picture, the
+    vertex-color stripes of :func:`heatcore.viz.colormap.colorize` and the
+    Blender add-on's isoline material.
     None at all where no value is finite or all values are equal.
 
     Parameters

@@ -8,7 +8,7 @@ What is checked, and how:
   our name is never reused;
 - the shader's logic read from its nodes and links: distance = attribute x
   scale (normalized attributes too), colormap position = distance / max,
-  isoline bands = floor(distance / spacing) with spacing = max / isolines;
+  isoline bands = floor(distance / spacing) with spacing = max / (isolines + 1);
   the ColorRamp equals heatcore's colormap (linear color);
 - rendered with Cycles (CPU, 128 x 128 pixels, a few samples): on a flat
   square with the exact distance from one corner (Euclidean) or from one
@@ -126,7 +126,7 @@ def test_material_modifier_created_and_rerun_updates_in_place(addon):
 
     legend = material.isoline_legend(obj)
     assert legend.max_distance == pytest.approx(result.max_distance, rel=1e-6)
-    assert legend.spacing == pytest.approx(result.max_distance / 8, rel=1e-6)
+    assert legend.spacing == pytest.approx(result.max_distance / 9, rel=1e-6)
     assert legend.count == 8 and legend.space == "WORLD"
 
     counts = {kind: len(getattr(bpy.data, kind)) for kind in ("materials", "node_groups")}
@@ -136,7 +136,7 @@ def test_material_modifier_created_and_rerun_updates_in_place(addon):
     mod = obj.modifiers[0]
     ours = mod.node_group.nodes["Set Material"].inputs["Material"].default_value
     assert len(obj.modifiers) == 1 and (mod.as_pointer(), mod.node_group.as_pointer(), ours.as_pointer()) == pointers
-    assert material.isoline_legend(obj).spacing == pytest.approx(result.max_distance / 5, rel=1e-6)
+    assert material.isoline_legend(obj).spacing == pytest.approx(result.max_distance / 6, rel=1e-6)
     assert material_state(obj) == before_materials
     assert_same_snapshot(before, snapshot(obj), ignore=outputs)
 
@@ -230,9 +230,9 @@ def test_shader_nodes_compute_colormap_and_bands(addon, normalize):
     np.testing.assert_allclose(distance, result.distance, rtol=1e-5, atol=1e-6)
     assert nodes["Colormap Position"].inputs[1].default_value == pytest.approx(dmax, rel=1e-6)
     spacing = nodes["Isoline Band"].inputs[1].default_value
-    assert spacing == pytest.approx(dmax / 6, rel=1e-6) and legend.count == 6
+    assert spacing == pytest.approx(dmax / 7, rel=1e-6) and legend.count == 6
     bands = np.floor(distance / spacing)
-    assert set(np.unique(bands)) <= set(range(7))
+    assert set(np.unique(bands)) <= set(range(8))
     # the ramp is heatcore's colormap in linear color (32 samples of its 33-entry table)
     x = np.linspace(0.0, 1.0, 101)
     ramp = np.array([legend.ramp.color_ramp.evaluate(float(t))[:3] for t in x])
@@ -417,6 +417,6 @@ def test_operator_option_and_legend_panel(addon):
     texts = [kw.get("text") for name, _, kw in log if name == "label"]
     dmax = bpy.context.window_manager.heat_geodesic_stats.max_distance
     assert f"{dmax:.4g} m" in texts  # the range 0 .. max
-    assert f"Isolines every {dmax / 4 * 100:.4g} cm (4 lines)" in texts
+    assert f"Isolines every {dmax / 5 * 100:.4g} cm (4 lines)" in texts
     ramps = [args for name, args, _ in log if name == "template_color_ramp"]
     assert ramps == [(nodes["Colormap"], "color_ramp")]

@@ -133,13 +133,13 @@ def test_levels_count_evenly_spaced():
     assert isoline_levels(d, 3).tolist() == [c.level for c in curves]
     assert isoline_levels([-1.0, 1.0, np.nan], 1).tolist() == [0.0]  # a signed field: from its minimum
     assert hc.isolines(V, F, d, 0) == [] and hc.isolines(V, F, np.ones(len(V)), 5) == []
-    # explicit levels through the dark stripes of colorize(isolines=N), at the multiples of max / N
-    stripes = vmax * np.arange(1, 4) / 4
+    # the dark stripes of colorize(isolines=N) sit on the same levels
+    stripes = isoline_levels(d, 4)
     x = np.linspace(0, vmax, 4001)
     dark = colorize(x, isolines=4).sum(axis=1) < 0.5 * colorize(x).sum(axis=1)
     runs = np.split(x[dark], np.flatnonzero(np.diff(np.flatnonzero(dark)) > 1) + 1)
-    assert [float(np.mean(r)) for r in runs[1:4]] == pytest.approx(stripes.tolist(), abs=vmax / 2000)  # [0]: at 0+
-    assert [c.level for c in hc.isolines(V, F, d, stripes)] == stripes.tolist()
+    assert [float(np.mean(r)) for r in runs[1:5]] == pytest.approx(stripes.tolist(), abs=vmax / 2000)  # [0]: at 0+
+    assert [c.level for c in hc.isolines(V, F, d, 4)] == stripes.tolist()
 
 
 # --------------------------------------------------------------------------- degenerate levels

@@ -210,7 +210,8 @@ def colorize(distance, colormap="viridis", isolines=0, vmax=None, stripe_width=0
     colormap : str
         One of ``COLORMAPS``.
     isolines : int
-        Number of evenly spaced isolines between 0 and ``vmax`` (0 for none).
+        Number of dark stripes, at ``vmax * j / (isolines + 1)`` for ``j = 1..isolines``
+        (the levels of :func:`heatcore.isolines` with an int count; 0 for none).
     vmax : float, optional
         Distance mapped to the top of the colormap (default: largest finite distance).
     stripe_width : float
@@ -238,7 +239,7 @@ def colorize(distance, colormap="viridis", isolines=0, vmax=None, stripe_width=0
     frac = (pos - lo)[:, None]
     rgb = (1 - frac) * table[lo] + frac * table[lo + 1]
     if isolines:
-        phase = (x * isolines) % 1.0
+        phase = (x * (isolines + 1)) % 1.0
         near = np.minimum(phase, 1.0 - phase) < 0.5 * stripe_width
         rgb[near & (x > 0)] *= 0.25
     rgb[~finite] = UNREACHABLE_COLOR
