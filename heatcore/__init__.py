@@ -26,6 +26,7 @@ from .errors import (
 )
 from .contours import Isoline, isolines
 from .heat import HeatSolver
+from .vector_heat import VectorHeatSolver
 
 __version__ = "0.1.0"
 
@@ -44,6 +45,7 @@ __all__ = [
     "SolverError",
     "TetMesh",
     "TriangleMesh",
+    "VectorHeatSolver",
     "geodesic_distance",
     "io",
     "isolines",
