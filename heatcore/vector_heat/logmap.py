@@ -124,6 +124,7 @@ def log_coordinates(distance, angle):
     >>> log_coordinates(np.array([1.0]), np.array([np.pi])).round(12).tolist()
     [[-1.0, 0.0]]
     """
-    out = distance[:, None] * np.column_stack([np.cos(angle), np.sin(angle)])
-    out[~np.isfinite(distance)] = np.inf
+    reached = np.isfinite(distance)
+    out = np.full((distance.size, 2), np.inf)
+    out[reached] = distance[reached, None] * np.column_stack([np.cos(angle[reached]), np.sin(angle[reached])])
     return out
