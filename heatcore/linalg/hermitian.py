@@ -13,14 +13,14 @@ to factor it:
   together for the orderings). Four times the entries of the complex matrix
   and about twice its flops.
 
-Measured (factorization seconds, the real form on 2n unknowns; docs/vector-heat.md):
+Measured (factorization seconds; scripts/bench_vector_heat.py, docs/vector-heat.md):
 
-======================  ======  =================  ==================  =====================  =============
-matrix                  n       qdldl (real form)  cholmod (real form) supernodal (real form)  complex CHOLMOD
-======================  ======  =================  ==================  =====================  =============
-spot refined once       11,714  0.16               0.17                0.09                   0.03
-icosphere refined once  40,962  9.19               3.96                1.24                   0.52
-======================  ======  =================  ==================  =====================  =============
+======================  ======  =================  ===================  ===============
+matrix                  n       qdldl (real form)  cholmod (real form)  complex CHOLMOD
+======================  ======  =================  ===================  ===============
+spot refined once       11,714  0.14               0.16                 0.03
+icosphere refined once  40,962  5.81               1.81                 0.18
+======================  ======  =================  ===================  ===============
 
 so "auto" takes complex CHOLMOD where cvxopt is installed and the real form
 through ``cholmod`` (cholespy) otherwise (qdldl's own ordering of the real

@@ -125,7 +125,7 @@ class VectorHeatSolver:
         h = np.broadcast_to(ops.mean_edge_length, (ops.n_vertices,))
         # The distance's time step t = m h^2 (h of the refined mesh), and its Neumann heat M + t L for the
         # scalar flows (also half of its Robin heat). With h of the mesh as given the angles of the log map
-        # were 1.7-2.4 times further from exact geodesics on spot, cheburashka and fandisk, though closer
+        # were 1.7-2.1 times further from exact geodesics on spot, cheburashka and fandisk, though closer
         # to the longitude on an icosphere (docs/vector-heat.md).
         self._step = hs.part_m[hs.component] * h * h
         self._flow = hs._heat_neumann
