@@ -260,3 +260,31 @@ def batch_arguments(p):
     options.add_argument(p, "domain")
     add_solver_options(p)
     add_common_options(p)
+
+
+def logmap_arguments(p):
+    """Add the arguments of ``heatcore logmap``: the mesh, one source, a reference direction, outputs, solver options.
+
+    Examples
+    --------
+    >>> p = _Parser(prog="heatcore logmap")
+    >>> logmap_arguments(p)
+    >>> args = p.parse_args(["spot.obj", "-s", "970", "--reference", "0", "1", "0", "-o", "uv.ply"])
+    >>> args.source, args.reference, args.output
+    (970, [0.0, 1.0, 0.0], ['uv.ply'])
+    """
+    p.add_argument("mesh", type=Path, metavar="MESH", help="triangle mesh file (PLY, OBJ, OFF, STL, glTF, ...)")
+    p.add_argument("-s", "--source", type=_vertex_index, required=True, metavar="INDEX",
+                   help="the source vertex (0-based): the origin of the coordinates")
+    p.add_argument("--reference", type=float, nargs=3, default=None, metavar=("X", "Y", "Z"),
+                   help="a direction at the source (3D, projected on its tangent plane) that becomes the +u "
+                        "axis; default: the source's tangent basis (heatcore.VectorHeatSolver.tangent_basis)")
+    p.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
+                   help="output file, format by extension: .ply (the coordinates as vertex texture "
+                        "coordinates, s/t and texture_u/texture_v; the distance as quality and colors), "
+                        ".npy ((n, 2) float64) or .csv (index,u,v); unreachable vertices get inf (0 in a PLY's "
+                        "texture coordinates); repeat for several")
+    p.add_argument("--overwrite", action="store_true", help="allow an output to replace the mesh file")
+    add_output_options(p)
+    add_solver_options(p)
+    add_common_options(p)

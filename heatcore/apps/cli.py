@@ -44,10 +44,12 @@ from .arguments import (  # noqa: F401 (SOLVER_OPTIONS, add_*_options: part of t
     batch_arguments,
     demo_arguments,
     distance_arguments,
+    logmap_arguments,
     meshlab_arguments,
     solver_keywords,
 )
 from .inputs import check_sources, command_line_sources, gather_sources, read_mesh_file
+from .logmap import run_logmap
 from .outputs import (  # noqa: F401 (check_outputs_fit, OUTPUT_SUFFIXES: part of this module's API)
     OUTPUT_SUFFIXES,
     VOLUME_OUTPUT_SUFFIXES,
@@ -294,6 +296,15 @@ def run_meshlab(args):
 
     print(meshlab.format_report(meshlab.run(args), as_json=args.json))
     return 0
+
+
+command("logmap", arguments=logmap_arguments,
+        help="geodesic polar coordinates around a vertex (the log map): UVs in a PLY, or .npy/.csv",
+        description="The logarithmic map from one vertex by the vector heat method: for every vertex, the "
+        "distance r and the direction θ in which the geodesic leaves the source, as r (cos θ, sin θ) in mesh "
+        "units (decal UVs). Output by extension: .ply (vertex texture coordinates, read as a UV map by "
+        "Blender and as texture coordinates by MeshLab; the distance as quality and colors), .npy or .csv "
+        "(index,u,v); unreachable vertices get inf.")(run_logmap)
 
 
 # --------------------------------------------------------------------------- batch

@@ -229,8 +229,8 @@ def _surface(mesh, path):
     return SurfaceMesh(np.asarray(mesh.points, dtype=float)[:, :3], np.concatenate(faces), data)
 
 
-def write_ply(path, V, F, quality, colors, selection=None):
-    """Write a binary PLY with per-vertex quality, colors and (optionally) MeshLab selection flags.
+def write_ply(path, V, F, quality, colors, selection=None, texcoords=None):
+    """Write a binary PLY with per-vertex quality, colors and (optionally) MeshLab selection flags and UVs.
 
     Parameters
     ----------
@@ -241,6 +241,10 @@ def write_ply(path, V, F, quality, colors, selection=None):
     colors : (n, 3) uint8 array
     selection : (k,) int array, optional
         Vertices to flag as selected (MeshLab's ``flags`` bit).
+    texcoords : (n, 2) float array, optional
+        Per-vertex texture coordinates, written twice: as ``s``, ``t`` (what
+        Blender's PLY importer reads into a UV map) and as ``texture_u``,
+        ``texture_v`` (what MeshLab reads).
 
     Examples
     --------
@@ -252,6 +256,9 @@ def write_ply(path, V, F, quality, colors, selection=None):
     >>> mesh = read_mesh(path)
     >>> mesh.vertex_data["quality"].tolist(), mesh.selected_vertices().tolist()
     ([0.0, 1.0, 1.0], [0])
+    >>> write_ply(path, V, F, [0.0, 1.0, 1.0], np.zeros((3, 3)), texcoords=[[0, 0], [1, 0], [0, 1]])
+    >>> read_mesh(path).vertex_data["texture_v"].tolist()
+    [0.0, 0.0, 1.0]
     >>> tmp.cleanup()
     """
     import meshio
@@ -263,6 +270,9 @@ def write_ply(path, V, F, quality, colors, selection=None):
         flags = np.zeros(len(V), dtype=np.int32)
         flags[np.asarray(selection, dtype=np.int64)] = MESHLAB_SELECTED_FLAG
         data["flags"] = flags
+    if texcoords is not None:
+        uv = np.asarray(texcoords, dtype=np.float64)
+        data["s"], data["t"], data["texture_u"], data["texture_v"] = uv[:, 0], uv[:, 1], uv[:, 0], uv[:, 1]
     F = np.asarray(F, dtype=np.int32).reshape(-1, 3)
     cells = [("triangle", F)] if len(F) else []  # a point cloud has no faces
     mesh = meshio.Mesh(np.asarray(V, dtype=float), cells, point_data=data)
