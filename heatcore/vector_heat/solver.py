@@ -78,6 +78,8 @@ class VectorHeatSolver:
 
     Attributes
     ----------
+    domain : TriangleMesh
+    accuracy : {"smooth", "high"}
     distance_solver : HeatSolver
         The scalar heat method on the same domain (radii, magnitudes).
     timings : dict
