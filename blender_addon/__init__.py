@@ -13,8 +13,11 @@ stages: prepare, build, finish), ``outputs`` (what a run writes),
 ``operator``, ``panel`` (the sidebar panel and its *Advanced* sub-panel),
 ``menus`` (entries in the Edit Mode, Object Mode and Weight Paint menus; F3
 finds them), ``shape`` (which shape is measured), ``undo`` (active color
-across undo), ``material`` (the isoline material) and ``legend`` (its
-legend sub-panel).
+across undo), ``material`` (the isoline material), ``legend`` (its
+legend sub-panel), and the interactive tool: ``probe`` (:class:`GeodesicProbe`,
+sources at surface points, the field live), ``probe_surface`` (ray casting
+the displayed mesh), ``overlay`` (what it draws), ``path_curve`` and
+``probe_tool`` (its modal operator and toolbar tools).
 
 Examples
 --------
@@ -22,23 +25,27 @@ Examples
 >>> bpy.ops.mesh.heat_geodesic_distance(isolines=8)              # doctest: +SKIP
 >>> from bl_ext.user_default.heat_geodesics import compute_geodesic_distance  # doctest: +SKIP
 >>> compute_geodesic_distance(bpy.context.object, sources=[0]).max_distance   # doctest: +SKIP
+>>> from bl_ext.user_default.heat_geodesics import GeodesicProbe              # doctest: +SKIP
+>>> GeodesicProbe(bpy.context.object).move_to(0, (0.2, 0.3, 0.5))             # doctest: +SKIP
 """
 
 import bpy
 
-from . import menus, operator, panel, properties, undo
+from . import menus, operator, panel, probe_tool, properties, undo
 from .adapters import AddonError
 from .api import GeodesicResult, compute_geodesic_distance
 from .background import BackgroundBuild
 from .cache import SOLVERS
+from .probe import GeodesicProbe
 
-__all__ = ["compute_geodesic_distance", "GeodesicResult", "AddonError", "register", "unregister"]
+__all__ = ["compute_geodesic_distance", "GeodesicResult", "GeodesicProbe", "AddonError", "register", "unregister"]
 
 
 def register():
-    """Register the settings, the operator, the sidebar panel and the menu entries."""
+    """Register the settings, the operators, the toolbar tools, the sidebar panel and the menu entries."""
     properties.register()
     bpy.utils.register_class(operator.MESH_OT_heat_geodesic_distance)
+    probe_tool.register()
     panel.register()
     undo.register()
     menus.register()
@@ -49,6 +56,7 @@ def unregister():
     menus.unregister()
     undo.unregister()
     panel.unregister()
+    probe_tool.unregister()
     bpy.utils.unregister_class(operator.MESH_OT_heat_geodesic_distance)
     properties.unregister()
     BackgroundBuild.cancel_running()  # a build still running stops at its next stage; nothing is kept

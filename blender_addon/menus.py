@@ -3,7 +3,8 @@
 Edit Mode: the right-click context menu, the header's *Vertex* menu and
 *Mesh › Weights*; Object Mode: the *Object* menu and the right-click
 context menu (mesh objects); Weight Paint: the *Weights* menu. The *Weights*
-entries run the operator with the vertex-group output on. Blender's menu
+entries run the operator with the vertex-group output on; the others have the
+interactive *Geodesic Probe* (:mod:`.probe_tool`) just above it. Blender's menu
 search (F3) finds every entry, by its label, in the mode where its menu is
 shown. :data:`ENTRIES` lists them; :func:`register` appends one draw function
 per menu (never twice) and :func:`unregister` removes them all.
@@ -12,15 +13,18 @@ per menu (never twice) and :func:`unregister` removes them all.
 import bpy
 
 from .operator import MESH_OT_heat_geodesic_distance
+from .probe_tool import MESH_OT_heat_geodesic_probe
 
 OPERATOR = MESH_OT_heat_geodesic_distance.bl_idname
+PROBE = MESH_OT_heat_geodesic_probe.bl_idname
 ICON = "DRIVER_DISTANCE"
+PROBE_ICON = "CURSOR"
 #: Marker attribute of our draw functions (finds entries left by an earlier copy of the module).
 MARK = "_heat_geodesic_entry"
 
 
 def _entry(menu, text, weights=False, mesh_only=False):
-    """A draw function adding one operator entry to ``menu`` (a separator, then the entry)."""
+    """A draw function adding the operator's entry to ``menu`` (a separator, the probe unless ``weights``, the entry)."""
 
     def draw(self, context):
         if mesh_only:
@@ -31,6 +35,8 @@ def _entry(menu, text, weights=False, mesh_only=False):
         layout.separator()
         # Invoke: options not given by the entry come from the panel (as from the button).
         layout.operator_context = "INVOKE_REGION_WIN"
+        if not weights:
+            layout.operator(PROBE, text="Geodesic Probe", icon=PROBE_ICON)
         props = layout.operator(OPERATOR, text=text, icon=ICON)
         if weights:
             props.write_weights = True

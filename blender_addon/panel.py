@@ -28,6 +28,7 @@ class VIEW3D_PT_heat_geodesic(bpy.types.Panel):
         obj = context.active_object
 
         layout.operator("mesh.heat_geodesic_distance", icon="DRIVER_DISTANCE")
+        layout.operator("mesh.heat_geodesic_probe", icon="CURSOR")
 
         col = layout.column(heading="Sources")
         col.prop(settings, "source", text="Sources")

@@ -233,14 +233,16 @@ def read_triangles(obj, topology, new_object=False):
 
 
 def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="EVALUATED", new_object=False,
-                progress=None, **run_options):
+                progress=None, sources_later=False, **run_options):
     """Stage 1 (main thread): check everything, read the mesh and the sources, look up the cached solver.
 
     Takes the arguments of :func:`~.api.compute_geodesic_distance`: the output
     options (``OUTPUT_NAMES``) and the solver options go in ``run_options``.
     Nothing is modified, except that a stale cached solver of this mesh
     (other geometry or options) is dropped. The warnings for the user are
-    in ``notes`` (the caller issues them).
+    in ``notes`` (the caller issues them). ``sources_later=True`` reads no
+    sources (``run.sources`` is empty): the caller places them afterwards
+    (the probe's points on faces, :mod:`.probe`).
 
     Returns
     -------
@@ -263,7 +265,7 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
         raise AddonError(f"mesh {mesh.name!r} has no vertices")
     notes = []
     corners, _ = adapters.topology(mesh)  # every vertex a face uses (loose sources are dropped)
-    src = resolve_sources(obj, sources, vertex_group, corners, notes)
+    src = np.zeros(0, dtype=np.int64) if sources_later else resolve_sources(obj, sources, vertex_group, corners, notes)
     if new_object:
         if shape != "EVALUATED":
             raise AddonError("new_object=True measures the evaluated mesh: it needs shape='EVALUATED'")
