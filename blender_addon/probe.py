@@ -73,6 +73,7 @@ class GeodesicProbe:
         if options.pop("new_object", False):
             raise AddonError("the geodesic probe measures the object itself: new_object is not available")
         self.run = prepare_run(obj, sources_later=True, **options)  # Edit Mode synced
+        _settle(obj)
         if not len(obj.data.polygons):
             raise AddonError(f"the geodesic probe places sources on faces: mesh {obj.data.name!r} has none")
         self.notes = self.run.notes
@@ -129,7 +130,6 @@ class GeodesicProbe:
         """Keep what was built: the solver in the add-on's cache, the tree beside it."""
         if not self.run.cached:
             SOLVERS.store(self.run.cache_id, self.run.key, self.run.solver)
-            self.run.cached = True  # stored once
         self.surface.keep(self.run.solver)
         self._adopted = True
 
@@ -195,6 +195,7 @@ class GeodesicProbe:
             when = "while its solver was being built" if built else "while the geodesic probe ran"
             raise AddonError(f"{obj.name!r} changed {when} (its shape or its vertices); nothing was written: "
                              "start the probe again")
+        _settle(obj)
         self.changed = False
         return obj
 
@@ -411,7 +412,7 @@ class GeodesicProbe:
         self.end()
         vertices = np.array(sorted(s for s, b in self.sources if b is None), dtype=np.int64)
         return GeodesicResult(self.distance, vertices, dmax, len(run.V), self.timings.get("update", 0.0),
-                              run.solver_seconds, run.solver_seconds == 0.0, run.skipped_modifiers, run.notes, obj)
+                              run.solver_seconds, run.cached, run.skipped_modifiers, run.notes, obj)
 
     def cancel(self):
         """End without writing anything: the overlay goes, a running build is cancelled; the mesh is as it was."""
@@ -426,6 +427,13 @@ class GeodesicProbe:
             self._overlay = None
         _ACTIVE.discard(self)
         self.ended = True
+
+
+def _settle(obj):
+    """In Edit Mode, evaluate now the update that syncing the edit mesh (``update_from_editmode``) tagged, so
+    that the change handler sees it before the probe is marked unchanged (else each check flags the next)."""
+    if obj.mode == "EDIT":
+        bpy.context.view_layer.update()
 
 
 def running():
