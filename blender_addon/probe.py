@@ -418,11 +418,17 @@ class GeodesicProbe:
         """End without writing anything: the overlay goes, a running build is cancelled; the mesh is as it was."""
         self.end()
 
+    def __del__(self):  # a script that drops a probe without cancel() leaves no overlay behind
+        try:
+            self.end()
+        except Exception:  # noqa: BLE001 - interpreter teardown
+            pass
+
     def end(self):
         """Take the overlay down and stop listening for changes (idempotent)."""
-        if self.build is not None and not self.ready:
+        if getattr(self, "build", None) is not None and not self.ready:
             self.build.cancel()
-        if self._overlay is not None:
+        if getattr(self, "_overlay", None) is not None:
             self._overlay.remove()
             self._overlay = None
         _ACTIVE.discard(self)

@@ -33,8 +33,18 @@ HAS_PATHS = hasattr(hc.HeatSolver, "geodesic_path")
 
 @pytest.fixture(scope="module")
 def mods(addon):  # noqa: F811
-    names = ("probe", "probe_tool", "probe_surface", "overlay", "path_curve", "adapters", "api", "background")
+    names = ("probe", "probe_tool", "probe_surface", "overlay", "path_curve", "adapters", "api", "background", "legend")
     return {name: importlib.import_module(f"blender_addon.{name}") for name in names}
+
+
+@pytest.fixture(autouse=True)
+def no_leaks(mods):
+    """Every test ends with no probe running and no draw handler left (each test ends its probes)."""
+    yield
+    running, live = mods["probe"].running(), set(mods["overlay"].Overlay.live)
+    for probe in running:
+        probe.end()
+    assert not running and not live
 
 
 @dataclass
@@ -260,3 +270,228 @@ def test_the_solver_and_the_ray_tree_are_reused_while_the_mesh_is_unchanged(mods
     third = mods["probe"].GeodesicProbe(obj, refine=0)
     assert not third.run.cached and third.surface is not first.surface
     third.cancel()
+
+
+# ---------------------------------------------------------------- the modal operator's events
+
+
+def test_events_hover_click_drag_shift_ctrl_enter(mods):
+    obj = grid()
+    probe = mods["probe"].GeodesicProbe(obj, boundary="neumann", isolines=4)  # refined 2 levels: 8,833 vertices
+    s, reports = session(mods, probe)
+    texts = s.display.texts
+    assert texts[-1].endswith("click on the surface")
+    assert s.handle(Event("MOUSEMOVE", "NOTHING", *to_mouse(0.1, 0.1))) == {"RUNNING_MODAL"}
+    assert "click on the surface" in texts[-1] and probe.distance is None  # nothing placed by hovering
+    assert s.handle(Event("MOUSEMOVE", "NOTHING", *to_mouse(3.0, 0.0))) == {"RUNNING_MODAL"}
+    assert texts[-1] == "the cursor is not on 'Grid'"
+
+    assert s.handle(Event("LEFTMOUSE", "PRESS", *to_mouse(-0.5, -0.5))) == {"RUNNING_MODAL"}
+    assert len(probe.sources) == 1 and s.dragging
+    for x in (-0.45, -0.4, -0.3):  # the drag moves the one source
+        assert s.handle(Event("MOUSEMOVE", "NOTHING", *to_mouse(x, -0.5))) == {"RUNNING_MODAL"}
+    assert len(probe.sources) == 1 and "1 source, farthest" in texts[-1]
+    np.testing.assert_allclose(probe.world_point(*probe.sources[0])[:2], [-0.3, -0.5], atol=0.5 / PIXELS)
+    np.testing.assert_allclose(probe.overlay_data().sources[0], probe.world_point(*probe.sources[0]), atol=1e-6)
+    assert s.handle(Event("LEFTMOUSE", "RELEASE", *to_mouse(-0.3, -0.5))) == {"RUNNING_MODAL"}
+    assert not s.dragging
+    field = probe.distance.copy()
+    assert s.handle(Event("MOUSEMOVE", "NOTHING", *to_mouse(0.5, 0.5))) == {"RUNNING_MODAL"}
+    np.testing.assert_array_equal(probe.distance, field)  # hovering after the release: no update
+    euclid = np.hypot(0.5 + 0.3, 0.5 + 0.5)
+    hit = probe.ray_cast((0.5, 0.5, 10.0), (0.0, 0.0, -1.0))
+    shown = mods["legend"].format_distance(probe.distance_at(hit.face, hit.barycentric), "WORLD", bpy.context.scene)
+    assert texts[-1] == f"Distance under the cursor: {shown}" and shown.endswith(" m")
+    assert probe.distance_at(hit.face, hit.barycentric) == pytest.approx(euclid, rel=0.02)
+
+    assert s.handle(Event("LEFTMOUSE", "PRESS", *to_mouse(0.6, -0.6), shift=True)) == {"RUNNING_MODAL"}
+    assert s.handle(Event("LEFTMOUSE", "RELEASE", *to_mouse(0.6, -0.6))) == {"RUNNING_MODAL"}
+    assert len(probe.sources) == 2 and "2 sources" in texts[-1]
+    assert s.handle(Event("MIDDLEMOUSE", "PRESS")) == {"PASS_THROUGH"}  # view navigation
+    assert s.handle(Event("WHEELUPMOUSE", "PRESS")) == {"PASS_THROUGH"}
+    assert s.handle(Event("TIMER", "NOTHING")) == {"PASS_THROUGH"}
+    assert s.handle(Event("A", "PRESS")) == {"RUNNING_MODAL"}  # other keys do nothing while the probe runs
+
+    assert s.handle(Event("LEFTMOUSE", "PRESS", *to_mouse(0.2, 0.7), ctrl=True)) == {"RUNNING_MODAL"}
+    s.handle(Event("LEFTMOUSE", "RELEASE", *to_mouse(0.2, 0.7)))
+    if HAS_PATHS:
+        assert probe.path is not None and texts[-1].startswith("Path to the target")
+        np.testing.assert_allclose(probe.path.points[-1][:2], [0.2, 0.7], atol=1e-3)
+    else:
+        assert "needs heatcore's geodesic paths" in texts[-1] and probe.target is None
+    assert len(probe.sources) == 2
+
+    assert s.handle(Event("RET", "PRESS")) == {"FINISHED"}
+    assert s.display.ended == 1 and reports[-1][0] == {"INFO"} and "2 sources" in reports[-1][1]
+    V, (F, _) = world(obj), loop_triangle_data(obj.data)
+    faces = [f for f, _ in probe.sources]
+    expected = hc.HeatSolver(hc.TriangleMesh(V, F), boundary="neumann").distance(
+        points=(faces, [b for _, b in probe.sources]))
+    np.testing.assert_allclose(attribute(obj.data, "geodesic_distance"), expected, rtol=1e-6)
+    assert not mods["overlay"].Overlay.live
+
+
+@pytest.mark.parametrize("key", ["ESC", "RIGHTMOUSE"])
+def test_esc_and_right_click_cancel_and_write_nothing(mods, key):
+    obj = grid(8)
+    before = snapshot(obj)
+    s, reports = session(mods, mods["probe"].GeodesicProbe(obj, refine=0))
+    s.handle(Event("LEFTMOUSE", "PRESS", *to_mouse(0.1, 0.2)))
+    s.handle(Event("MOUSEMOVE", "NOTHING", *to_mouse(0.2, 0.2)))
+    assert s.handle(Event(key, "PRESS")) == {"CANCELLED"}
+    assert reports == [({"WARNING"}, "Geodesic probe cancelled; nothing was written")]
+    assert_same_snapshot(before, snapshot(obj))
+    assert s.display.ended == 1 and not mods["overlay"].Overlay.live
+
+
+def test_enter_with_no_source_says_so_and_goes_on(mods):
+    obj = grid(8)
+    s, reports = session(mods, mods["probe"].GeodesicProbe(obj, refine=0))
+    assert s.handle(Event("RET", "PRESS")) == {"RUNNING_MODAL"}
+    assert "no source placed" in s.display.texts[-1] and "geodesic_distance" not in obj.data.attributes
+    s.cancel()
+
+
+def test_the_toolbar_tool_places_on_press_and_confirms_on_release_shift_adds_to_its_last_sources(mods):
+    obj = grid(10)
+    probe = mods["probe"].GeodesicProbe(obj, refine=0)
+    s, _ = session(mods, probe, release_confirms=True, press=Event("LEFTMOUSE", "PRESS", *to_mouse(-0.5, 0.0)))
+    assert len(probe.sources) == 1 and s.dragging  # the press that started the tool placed the source
+    s.handle(Event("MOUSEMOVE", "NOTHING", *to_mouse(-0.4, 0.0)))
+    assert s.handle(Event("LEFTMOUSE", "RELEASE", *to_mouse(-0.4, 0.0))) == {"FINISHED"}
+    first, first_source = attribute(obj.data, "geodesic_distance").copy(), probe.sources[0]
+
+    probe = mods["probe"].GeodesicProbe(obj, refine=0)  # the next click, with Shift
+    s, _ = session(mods, probe, release_confirms=True,
+                   press=Event("LEFTMOUSE", "PRESS", *to_mouse(0.5, 0.0), shift=True))
+    assert len(probe.sources) == 2
+    assert s.handle(Event("LEFTMOUSE", "RELEASE", *to_mouse(0.5, 0.0))) == {"FINISHED"}
+    first_point, second_point = probe.sources
+    assert first_point[0] == first_source[0] and np.array_equal(first_point[1], first_source[1])
+    V, (F, _) = world(obj), loop_triangle_data(obj.data)
+    expected = hc.HeatSolver(hc.TriangleMesh(V, F, refine=0)).distance(
+        points=([first_point[0], second_point[0]], [first_point[1], second_point[1]]))
+    np.testing.assert_allclose(attribute(obj.data, "geodesic_distance"), expected, rtol=1e-6)
+    assert expected.max() < 0.8 * first.max()
+
+    probe = mods["probe"].GeodesicProbe(obj, refine=0)  # a click off the mesh ends the tool at once
+    s, reports = session(mods, probe, release_confirms=True, press=Event("LEFTMOUSE", "PRESS", *to_mouse(4.0, 0.0)))
+    assert probe.ended and s.display.texts[-1] == "the cursor is not on 'Grid'" and reports == []
+
+
+# ---------------------------------------------------------------- the background build
+
+
+def test_the_solver_is_built_in_the_background_and_the_tools_click_waits_for_it(mods):
+    obj = ico_sphere(subdivisions=3)
+    probe = mods["probe"].GeodesicProbe(obj, background=True)  # refine="auto": 642 vertices refined
+    assert not probe.ready and mods["background"].BackgroundBuild.running() is probe.build
+    with pytest.raises(mods["adapters"].AddonError, match="still being built"):
+        probe.move_to(0, (1.0, 0.0, 0.0))
+    top = to_mouse(0.05, 0.05)  # the sphere's top, seen from above
+    s, reports = session(mods, probe, release_confirms=True, press=Event("LEFTMOUSE", "PRESS", *top))
+    assert s.display.progresses and not probe.sources
+    assert s.handle(Event("LEFTMOUSE", "RELEASE", *top)) == {"PASS_THROUGH"}  # released during the build
+    assert probe.build.wait(120)
+    assert s.handle(Event("TIMER", "NOTHING")) == {"FINISHED"}  # placed, then confirmed: it was released
+    assert s.display.readied == 1 and len(probe.sources) == 1 and probe.run.cached is False
+    messages = [m for _, _, m in probe.build.updates]
+    assert "factoring the heat matrix" in messages and messages[-1] == "preparing the ray casting"
+    assert s.display.progresses[0][1] in messages and 0 <= s.display.progresses[0][0] < 1
+    d = attribute(obj.data, "geodesic_distance")
+    assert d.min() < 0.1 and reports[-1][0] == {"INFO"}
+    again = mods["probe"].GeodesicProbe(obj)
+    assert again.run.cached and again.surface is probe.surface  # kept for the next tool session
+    again.cancel()
+
+
+def test_esc_during_the_build_cancels_it_and_keeps_no_solver(mods):
+    obj = ico_sphere(subdivisions=3)
+    probe = mods["probe"].GeodesicProbe(obj, background=True)
+    s, reports = session(mods, probe)
+    assert s.handle(Event("ESC", "PRESS")) == {"CANCELLED"}
+    assert probe.build.poll() == "cancelled" and probe.ended and not mods["overlay"].Overlay.live
+    probe.build.wait(120)
+    assert obj.data.session_uid not in mods["probe"].SOLVERS
+    assert "geodesic_distance" not in obj.data.attributes
+
+
+# ---------------------------------------------------------------- bad input
+
+
+def test_a_non_mesh_or_a_mesh_without_faces_is_refused(mods):
+    AddonError = mods["adapters"].AddonError
+    bpy.ops.object.empty_add()
+    empty = bpy.context.active_object
+    with pytest.raises(AddonError, match="needs a mesh object; 'Empty' is not one"):
+        mods["probe"].GeodesicProbe(empty)
+    assert not bpy.ops.mesh.heat_geodesic_probe.poll()
+    mesh = bpy.data.meshes.new("cloud")
+    mesh.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [], [])
+    cloud = bpy.data.objects.new("cloud", mesh)
+    bpy.context.scene.collection.objects.link(cloud)
+    with pytest.raises(AddonError, match="places sources on faces: mesh 'cloud' has none"):
+        mods["probe"].GeodesicProbe(cloud)
+    with pytest.raises(AddonError, match="new_object is not available"):
+        mods["probe"].GeodesicProbe(ico_sphere(1), new_object=True)
+    assert not mods["overlay"].Overlay.live and not mods["probe"].running()
+    with bpy.context.temp_override(active_object=cloud, object=cloud):  # headless: no 3D View to run in
+        with pytest.raises(RuntimeError, match="the geodesic probe is interactive: start it in a 3D Viewport"):
+            bpy.ops.mesh.heat_geodesic_probe("INVOKE_DEFAULT")
+
+
+def test_an_edit_while_the_tool_runs_ends_it_with_a_message_and_writes_nothing(mods):
+    obj = grid(8)
+    probe = mods["probe"].GeodesicProbe(obj, refine=0)
+    s, reports = session(mods, probe)
+    s.handle(Event("LEFTMOUSE", "PRESS", *to_mouse(0.1, 0.1)))
+    obj.data.vertices[0].co.z += 0.5
+    obj.data.update()
+    bpy.context.view_layer.update()  # what Blender does after any edit: the probe is flagged
+    assert probe.changed
+    assert s.handle(Event("MOUSEMOVE", "NOTHING", *to_mouse(0.2, 0.1))) == {"CANCELLED"}
+    assert reports[-1][0] == {"ERROR"} and "'Grid' changed while the geodesic probe ran" in reports[-1][1]
+    assert "geodesic_distance" not in obj.data.attributes and not mods["overlay"].Overlay.live
+
+
+def test_an_edit_the_handler_did_not_see_is_caught_by_confirm(mods):
+    obj = grid(8)
+    probe = mods["probe"].GeodesicProbe(obj, refine=0)
+    probe.add(3, (0.2, 0.3, 0.5))
+    obj.data.vertices[0].co.z += 0.5  # no depsgraph update: not flagged
+    with pytest.raises(mods["adapters"].AddonError, match="changed while the geodesic probe ran"):
+        probe.confirm()
+    assert "geodesic_distance" not in obj.data.attributes
+    probe.cancel()
+
+
+def test_a_deleted_object_ends_the_tool(mods):
+    obj = grid(8)
+    s, reports = session(mods, mods["probe"].GeodesicProbe(obj, refine=0))
+    s.handle(Event("LEFTMOUSE", "PRESS", *to_mouse(0.1, 0.1)))
+    bpy.data.objects.remove(obj)
+    bpy.context.view_layer.update()
+    assert s.handle(Event("MOUSEMOVE", "NOTHING", *to_mouse(0.2, 0.1))) == {"CANCELLED"}
+    assert reports[-1] == ({"ERROR"}, "'Grid' was deleted while the geodesic probe ran; nothing was written")
+    assert not mods["overlay"].Overlay.live
+
+
+def test_a_second_build_while_one_runs_is_refused_and_leaks_nothing(mods):
+    a, b = ico_sphere(3), ico_sphere(3)
+    b.location.x = 5
+    first = mods["probe"].GeodesicProbe(a, background=True)
+    with pytest.raises(mods["background"].Busy, match="already building the heat solver of 'Icosphere'"):
+        mods["probe"].GeodesicProbe(b, background=True)
+    assert mods["probe"].running() == [first] and len(mods["overlay"].Overlay.live) == 1
+    first.cancel()
+    first.build.wait(120)
+
+
+def test_another_object_in_front_of_the_mesh_is_named(mods):
+    obj = grid(8)
+    bpy.ops.mesh.primitive_cube_add(size=0.5, location=(0.5, 0.5, 1.0))
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    occluder = mods["probe_tool"].occluder
+    assert occluder(depsgraph, obj.name, (0.5, 0.5, 5.0), (0, 0, -1), 5.0) == "Cube"
+    assert occluder(depsgraph, obj.name, (-0.5, -0.5, 5.0), (0, 0, -1), 5.0) is None
+    assert occluder(depsgraph, "Cube", (0.5, 0.5, 5.0), (0, 0, -1), 5.0) is None  # itself
