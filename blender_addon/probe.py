@@ -73,7 +73,6 @@ class GeodesicProbe:
         if options.pop("new_object", False):
             raise AddonError("the geodesic probe measures the object itself: new_object is not available")
         self.run = prepare_run(obj, sources_later=True, **options)  # Edit Mode synced
-        _settle(obj)
         if not len(obj.data.polygons):
             raise AddonError(f"the geodesic probe places sources on faces: mesh {obj.data.name!r} has none")
         self.notes = self.run.notes
@@ -92,6 +91,7 @@ class GeodesicProbe:
         #: Measured to world coordinates (Space Local), for the path; None in World space.
         self._matrix = None if self.run.space == "WORLD" else np.array(obj.matrix_world, dtype=np.float64)
         self.build = None
+        _settle(obj)
         _ACTIVE.add(self)  # flagged by any change from now on (during a background build too)
         try:
             if self.run.solver is not None and self.surface.tree is not None:
@@ -436,8 +436,9 @@ class GeodesicProbe:
 
 
 def _settle(obj):
-    """In Edit Mode, evaluate now the update that syncing the edit mesh (``update_from_editmode``) tagged, so
-    that the change handler sees it before the probe is marked unchanged (else each check flags the next)."""
+    """In Edit Mode, evaluate now the updates that reading the mesh tagged (``update_from_editmode``, the
+    temporary copies of :func:`~.adapters.stored`), so that the change handler sees them before the probe is
+    marked unchanged (else each check would flag the next)."""
     if obj.mode == "EDIT":
         bpy.context.view_layer.update()
 

@@ -495,3 +495,160 @@ def test_another_object_in_front_of_the_mesh_is_named(mods):
     assert occluder(depsgraph, obj.name, (0.5, 0.5, 5.0), (0, 0, -1), 5.0) == "Cube"
     assert occluder(depsgraph, obj.name, (-0.5, -0.5, 5.0), (0, 0, -1), 5.0) is None
     assert occluder(depsgraph, "Cube", (0.5, 0.5, 5.0), (0, 0, -1), 5.0) is None  # itself
+
+
+# ---------------------------------------------------------------- what the overlay draws
+
+
+def test_overlay_colors_are_the_written_colors_at_the_tables_steps(mods):
+    overlay, adapters = mods["overlay"], mods["adapters"]
+    obj = ico_sphere(subdivisions=3)
+    obj.data.vertices.add(1)  # a loose vertex: unreachable, grey
+    obj.data.update()
+    probe = mods["probe"].GeodesicProbe(obj, isolines=7, colormap="plasma", refine=0)
+    d = probe.move_to(9, (0.6, 0.2, 0.2))
+    data = probe.overlay_data()
+    assert data.colors.dtype == np.float32 and data.colors.shape == (len(d), 4)
+    steps = np.rint(d[:-1] / d[:-1].max() * (overlay.COLOR_STEPS - 1)) / (overlay.COLOR_STEPS - 1)
+    exact = adapters.srgb_to_linear(colorize(steps, colormap="plasma", isolines=7, vmax=1.0))
+    np.testing.assert_array_equal(data.colors[:-1, :3], exact)  # colorize at the nearest of the table's steps
+    np.testing.assert_array_equal(data.colors[-1, :3], adapters.srgb_to_linear(colorize(np.array([np.inf]))[0]))
+    assert (data.colors[:, 3] == 1).all()
+    written = adapters.srgb_to_linear(colorize(d, colormap="plasma", isolines=7))
+    near = np.abs(written - data.colors[:, :3]).max(axis=1) < 2e-3  # the step: 1/8190 of the maximum
+    assert near.mean() > 0.99  # the others straddle an isoline stripe's edge
+    np.testing.assert_array_equal(data.positions, world(obj).astype(np.float32))
+    np.testing.assert_array_equal(data.triangles, loop_triangle_data(obj.data)[0])
+    assert data.triangles.dtype == np.uint32 and data.positions.dtype == np.float32
+    if hasattr(hc, "isolines"):  # heatcore's isoline curves, where this heatcore has them
+        assert len(data.isolines) >= 7
+    else:
+        assert data.isolines == []
+    probe.cancel()
+
+
+def test_overlay_geometry_helpers(mods):
+    from mathutils import Matrix
+
+    overlay = mods["overlay"]
+    segments = overlay.line_segments([np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0]]), np.zeros((1, 3))])
+    np.testing.assert_array_equal(segments, [[0, 0, 0], [1, 0, 0], [1, 0, 0], [1, 1, 0]])
+    assert overlay.line_segments([]).shape == (0, 3)
+    # The offset pulls depths towards the viewer by Blender's polygon offset: perspective and orthographic.
+    near, far = 0.1, 100.0
+    perspective = Matrix(((1, 0, 0, 0), (0, 1, 0, 0), (0, 0, -(far + near) / (far - near), -2 * far * near / (far - near)),
+                          (0, 0, -1, 0)))
+    orthographic = Matrix(((1, 0, 0, 0), (0, 1, 0, 0), (0, 0, -2 / (far - near), -(far + near) / (far - near)),
+                           (0, 0, 0, 1)))
+    for P in (perspective, orthographic):
+        Q = overlay.offset_projection(P, view_distance=10.0)
+        for depth in (0.5, 5.0, 50.0):
+            p, q = P @ Matrix.Translation((0, 0, -depth)).col[3], Q @ Matrix.Translation((0, 0, -depth)).col[3]
+            z_p, z_q = p.z / p.w, q.z / q.w
+            assert z_q < z_p and z_p - z_q < 1e-3
+    assert overlay.offset_projection(perspective, 10.0)[2][3] == pytest.approx(perspective[2][3] * 1.00125)
+    assert overlay.offset_projection(orthographic, 10.0)[2][3] == pytest.approx(orthographic[2][3] - 5e-5)
+
+
+def test_the_path_target_and_the_path_curve(mods):
+    obj = grid(10)
+    probe = mods["probe"].GeodesicProbe(obj, refine=0, boundary="neumann", path_curve=True)
+    with pytest.raises(mods["adapters"].AddonError, match="place a source first|needs heatcore's geodesic paths"):
+        probe.path_to(5, (1 / 3, 1 / 3, 1 / 3))
+    probe.add(3, (0.2, 0.3, 0.5))
+    if HAS_PATHS:
+        path = probe.path_to(150, (0.5, 0.25, 0.25))
+        np.testing.assert_allclose(path.points[0], probe.world_point(3, (0.2, 0.3, 0.5)), atol=1e-9)
+        np.testing.assert_allclose(path.points[-1], probe.world_point(150, (0.5, 0.25, 0.25)), atol=1e-9)
+        straight = np.linalg.norm(path.points[-1] - path.points[0])
+        assert path.length == pytest.approx(straight, rel=1e-9)  # a flat grid: a straight line
+        np.testing.assert_array_equal(probe.overlay_data().path, path.points.astype(np.float32))
+        probe.confirm()
+        curve = bpy.data.objects["Grid Geodesic Path"]
+        co = np.empty(4 * len(curve.data.splines[0].points))
+        curve.data.splines[0].points.foreach_get("co", co)
+        np.testing.assert_allclose(co.reshape(-1, 4)[:, :3], path.points, atol=1e-6)
+    else:
+        with pytest.raises(mods["adapters"].AddonError, match="needs heatcore's geodesic paths"):
+            probe.path_to(150, (0.5, 0.25, 0.25))
+        assert probe.target is None and probe.overlay_data().path is None
+        probe.confirm()
+        assert "Grid Geodesic Path" not in bpy.data.objects  # no path, no curve
+    # The curve writer itself: made once, updated in place.
+    write = mods["path_curve"].write_path_curve
+    first = write(obj, [[0, 0, 0], [1, 0, 0], [1, 1, 0]])
+    second = write(obj, [[0, 0, 1], [2, 0, 1]])
+    assert first == second and first.name == "Grid Geodesic Path" and len(first.data.splines) == 1
+    co = np.empty(8)
+    second.data.splines[0].points.foreach_get("co", co)
+    np.testing.assert_array_equal(co, [0, 0, 1, 1, 2, 0, 1, 1])
+    assert first.users_collection[0] == obj.users_collection[0]
+    assert not mods["path_curve"].path_available(object())
+
+
+def test_edit_mode_checks_do_not_flag_themselves(mods):
+    obj = ico_sphere(subdivisions=2)
+    bpy.ops.object.mode_set(mode="EDIT")
+    probe = mods["probe"].GeodesicProbe(obj, refine=0)
+    bpy.context.view_layer.update()
+    assert not probe.changed  # syncing the edit mesh at the start was settled before the probe listened
+    probe.check()
+    bpy.context.view_layer.update()
+    assert not probe.changed
+    probe.add(0, (1.0, 0.0, 0.0))
+    import bmesh
+
+    bm = bmesh.from_edit_mesh(obj.data)
+    bm.verts.ensure_lookup_table()
+    bm.verts[0].co.z += 0.2
+    bmesh.update_edit_mesh(obj.data)
+    bpy.context.view_layer.update()
+    assert probe.changed
+    with pytest.raises(mods["adapters"].AddonError, match="changed while the geodesic probe ran"):
+        probe.move_to(1, (1.0, 0.0, 0.0))
+    probe.cancel()
+    bpy.ops.object.mode_set(mode="OBJECT")
+
+
+# ---------------------------------------------------------------- findable: menus, panel, toolbar
+
+
+class Recorder:
+    """A stand-in ``layout``: records the operators drawn."""
+
+    def __init__(self):
+        self.operators, self.operator_context = [], None
+
+    def separator(self):
+        pass
+
+    def operator(self, idname, **kw):
+        self.operators.append((idname, kw.get("text"), self.operator_context))
+        return type("Props", (), {})()
+
+
+def test_menus_panel_and_toolbar_have_the_probe(addon, mods):  # noqa: F811
+    ico_sphere(1)
+    entries = dict(addon.menus.ENTRIES)
+    for menu, draw in entries.items():
+        holder = type("Menu", (), {"layout": Recorder()})()
+        draw(holder, bpy.context)
+        ops = holder.layout.operators
+        if menu in ("VIEW3D_MT_paint_weight", "VIEW3D_MT_edit_mesh_weights"):
+            assert [o[0] for o in ops] == ["mesh.heat_geodesic_distance"], menu
+        else:  # the probe just above the distance, both invoked
+            assert ops == [("mesh.heat_geodesic_probe", "Geodesic Probe", "INVOKE_REGION_WIN"),
+                           ("mesh.heat_geodesic_distance", "Geodesic Distance", "INVOKE_REGION_WIN")], menu
+    from bl_ui.space_toolsystem_common import ToolSelectPanelHelper
+
+    tools = ToolSelectPanelHelper._tool_class_from_space_type("VIEW_3D")._tools
+    for mode, idname in (("OBJECT", "heat_geodesics.probe_object"), ("EDIT_MESH", "heat_geodesics.probe_edit")):
+        names = [getattr(t, "idname", None) for t in tools[mode]]
+        tool = tools[mode][names.index(idname)]
+        assert names[names.index(idname) - 2] == "builtin.measure"  # after Measure, past a separator
+        items = bpy.context.window_manager.keyconfigs.addon.keymaps[tool.keymap[0]].keymap_items
+        keys = [(i.idname, i.type, i.value, i.shift, i.ctrl, i.properties.release_confirms) for i in items]
+        assert keys == [("mesh.heat_geodesic_probe", "LEFTMOUSE", "PRESS", shift, ctrl, True)
+                        for shift, ctrl in ((0, 0), (1, 0), (0, 1))]
+    source = (addon.panel.__file__ and open(addon.panel.__file__).read())
+    assert 'layout.operator("mesh.heat_geodesic_probe"' in source
