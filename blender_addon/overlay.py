@@ -26,11 +26,13 @@ Examples
 """
 
 import dataclasses
+import typing
 
 import bpy
 import numpy as np
 
 from ._heatcore import colormap as colormaps
+from ._heatcore import heatcore
 from .adapters import srgb_to_linear
 
 #: Colors in the field's table (the last row, one more, is the unreachable grey).
@@ -109,6 +111,28 @@ class OverlayData:
     path: np.ndarray = None
     isolines: list = dataclasses.field(default_factory=list)
 
+    @classmethod
+    def of(cls, probe):
+        """What a :class:`~.probe.GeodesicProbe` shows now: its field, sources, target and path, in world
+        coordinates (the path, measured in Local space, moved by the object's matrix), and the field's isolines
+        where this heatcore has ``heatcore.isolines``."""
+        surface = probe.surface
+        data = cls(positions=surface.positions32, triangles=surface.triangles32)
+        if probe.distance is not None:
+            data.colors = field_colors(probe.distance, probe.color_table)
+        data.sources = np.array([surface.point(*s) for s in probe.sources], dtype=np.float32).reshape(-1, 3)
+        if probe.target is not None:
+            data.target = surface.point(*probe.target).astype(np.float32)
+        if probe.path is not None:
+            M = probe.matrix
+            data.path = np.asarray(probe.path.points if M is None else probe.path.points @ M[:3, :3].T + M[:3, 3],
+                                   dtype=np.float32)
+        isolines, count = getattr(heatcore, "isolines", None), int(probe.run.outputs["isolines"])
+        if isolines is not None and probe.distance is not None and count:
+            curves = isolines(surface.positions, surface.triangles, probe.distance, count)
+            data.isolines = [np.asarray(c.points, dtype=np.float32) for c in curves]
+        return data
+
 
 def offset_projection(projection, view_distance, offset=1.0):
     """``projection`` with the depth pulled towards the viewer, as Blender's ``GPU_polygon_offset``.
@@ -139,7 +163,7 @@ class Overlay:
     the first time it is drawn after :meth:`update`.
     """
 
-    live = set()
+    live: typing.ClassVar[set] = set()
 
     def __init__(self):
         self.data = None

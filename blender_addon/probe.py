@@ -32,10 +32,16 @@ from .adapters import AddonError
 from .background import DONE, FAILED, RUNNING, BackgroundBuild
 from .cache import SOLVERS, geometry_key, same_key
 from .outputs import check_outputs, write_outputs
-from .overlay import Overlay, OverlayData, color_table, field_colors
+from .overlay import Overlay, OverlayData, color_table
 from .path_curve import path_available, write_path_curve
 from .probe_surface import DisplayedSurface, displayed_positions
-from .stages import GeodesicResult, build_solver, find_object, prepare_run, read_geometry
+from .stages import (
+    GeodesicResult,
+    build_solver,
+    find_object,
+    prepare_run,
+    read_geometry,
+)
 
 #: Probes running now: the depsgraph handler flags them when anything changes.
 _ACTIVE = weakref.WeakSet()
@@ -84,12 +90,12 @@ class GeodesicProbe:
         self.ended = False
         self._adopted = False
         self.timings = {}
-        self._table = color_table(self.run.outputs["colormap"], self.run.outputs["isolines"])
+        self.color_table = color_table(self.run.outputs["colormap"], self.run.outputs["isolines"])
         #: The mesh as displayed (world): ray casting, the overlay, the loop triangles.
         self.surface = DisplayedSurface.of(obj, self.run)
         self.triangles = self.surface.triangles
         #: Measured to world coordinates (Space Local), for the path; None in World space.
-        self._matrix = None if self.run.space == "WORLD" else np.array(obj.matrix_world, dtype=np.float64)
+        self.matrix = None if self.run.space == "WORLD" else np.array(obj.matrix_world, dtype=np.float64)
         self.build = None
         _settle(obj)
         _ACTIVE.add(self)  # flagged by any change from now on (during a background build too)
@@ -361,20 +367,7 @@ class GeodesicProbe:
 
     def overlay_data(self):
         """What the overlay draws now (:class:`~.overlay.OverlayData`)."""
-        data = OverlayData(positions=self.surface.positions32, triangles=self.surface.triangles32)
-        if self.distance is not None:
-            data.colors = field_colors(self.distance, self._table)
-        data.sources = np.array([self.world_point(*s) for s in self.sources], dtype=np.float32).reshape(-1, 3)
-        if self.target is not None:
-            data.target = self.world_point(*self.target).astype(np.float32)
-        if self.path is not None:
-            points = self.path.points if self._matrix is None else self.path.points @ self._matrix[:3, :3].T + self._matrix[:3, 3]
-            data.path = np.asarray(points, dtype=np.float32)
-        isolines = getattr(heatcore, "isolines", None)
-        if isolines is not None and self.distance is not None and self.run.outputs["isolines"]:
-            curves = isolines(self.surface.positions, self.triangles, self.distance, int(self.run.outputs["isolines"]))
-            data.isolines = [np.asarray(c.points, dtype=np.float32) for c in curves]
-        return data
+        return OverlayData.of(self)
 
     def _show(self):
         if self._overlay is not None:
@@ -421,7 +414,7 @@ class GeodesicProbe:
     def __del__(self):  # a script that drops a probe without cancel() leaves no overlay behind
         try:
             self.end()
-        except Exception:  # noqa: BLE001 - interpreter teardown
+        except Exception:  # noqa: BLE001, S110 - interpreter teardown
             pass
 
     def end(self):

@@ -279,10 +279,8 @@ def occluder(depsgraph, obj_name, origin, direction, depth):
     """
     direction = Vector(direction).normalized()
     hit, location, _, _, other, _ = bpy.context.scene.ray_cast(depsgraph, Vector(origin), direction)
-    if hit and other is not None and other.original.name != obj_name:
-        if (Vector(location) - Vector(origin)).length < depth * (1 - 1e-6):
-            return other.original.name
-    return None
+    closer = hit and (Vector(location) - Vector(origin)).length < depth * (1 - 1e-6)
+    return other.original.name if closer and other is not None and other.original.name != obj_name else None
 
 
 def view_locate(region, rv3d, probe):

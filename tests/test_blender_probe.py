@@ -83,7 +83,7 @@ PIXELS = 200.0
 
 
 def to_mouse(x, y):
-    return int(round(500 + PIXELS * x)), int(round(500 + PIXELS * y))
+    return round(500 + PIXELS * x), round(500 + PIXELS * y)
 
 
 def session(mods, probe, **kw):
@@ -151,9 +151,8 @@ def test_a_face_point_matches_heatcore_and_the_ray_hits_the_loop_triangle(mods):
         hit = probe.ray_cast(centroid + 2 * normal, -normal)
         assert hit.face == face and hit.depth == pytest.approx(2.0, rel=1e-5)
         np.testing.assert_allclose(hit.barycentric, [1 / 3] * 3, atol=1e-5)
-        local = lambda p: (inverse @ np.r_[p, 1.0])[:3]  # noqa: E731
-        direction = (inverse[:3, :3] @ -normal)
-        found, _, _, polygon = obj.evaluated_get(depsgraph).ray_cast(local(centroid + 2 * normal), direction)
+        origin = (inverse @ np.r_[centroid + 2 * normal, 1.0])[:3]
+        found, _, _, polygon = obj.evaluated_get(depsgraph).ray_cast(origin, inverse[:3, :3] @ -normal)
         assert found and polygon == polys[face]
     assert probe.ray_cast((5.0, 5.0, 5.0), (1.0, 0.0, 0.0)) is None
     probe.cancel()
@@ -190,7 +189,7 @@ def test_cancel_leaves_attributes_active_color_selection_and_mode_bit_identical(
 
 
 def test_confirm_writes_what_the_one_shot_operator_writes_as_one_undo_step(mods):
-    options = dict(isolines=6, colormap="magma", weight_group="weights", weight_falloff="SMOOTH", refine=0)
+    options = {"isolines": 6, "colormap": "magma", "weight_group": "weights", "weight_falloff": "SMOOTH", "refine": 0}
     twin = ico_sphere(subdivisions=3)
     obj = ico_sphere(subdivisions=3)
     bpy.ops.ed.undo_push(message="before")
@@ -349,6 +348,7 @@ def test_enter_with_no_source_says_so_and_goes_on(mods):
     s, reports = session(mods, mods["probe"].GeodesicProbe(obj, refine=0))
     assert s.handle(Event("RET", "PRESS")) == {"RUNNING_MODAL"}
     assert "no source placed" in s.display.texts[-1] and "geodesic_distance" not in obj.data.attributes
+    assert reports == []
     s.cancel()
 
 
@@ -408,7 +408,7 @@ def test_the_solver_is_built_in_the_background_and_the_tools_click_waits_for_it(
 def test_esc_during_the_build_cancels_it_and_keeps_no_solver(mods):
     obj = ico_sphere(subdivisions=3)
     probe = mods["probe"].GeodesicProbe(obj, background=True)
-    s, reports = session(mods, probe)
+    s, _ = session(mods, probe)
     assert s.handle(Event("ESC", "PRESS")) == {"CANCELLED"}
     assert probe.build.poll() == "cancelled" and probe.ended and not mods["overlay"].Overlay.live
     probe.build.wait(120)
@@ -435,9 +435,9 @@ def test_a_non_mesh_or_a_mesh_without_faces_is_refused(mods):
     with pytest.raises(AddonError, match="new_object is not available"):
         mods["probe"].GeodesicProbe(ico_sphere(1), new_object=True)
     assert not mods["overlay"].Overlay.live and not mods["probe"].running()
-    with bpy.context.temp_override(active_object=cloud, object=cloud):  # headless: no 3D View to run in
-        with pytest.raises(RuntimeError, match="the geodesic probe is interactive: start it in a 3D Viewport"):
-            bpy.ops.mesh.heat_geodesic_probe("INVOKE_DEFAULT")
+    interactive = "the geodesic probe is interactive: start it in a 3D Viewport"
+    with bpy.context.temp_override(active_object=cloud, object=cloud), pytest.raises(RuntimeError, match=interactive):
+        bpy.ops.mesh.heat_geodesic_probe("INVOKE_DEFAULT")  # headless: no 3D View to run in
 
 
 def test_an_edit_while_the_tool_runs_ends_it_with_a_message_and_writes_nothing(mods):
@@ -650,5 +650,6 @@ def test_menus_panel_and_toolbar_have_the_probe(addon, mods):  # noqa: F811
         keys = [(i.idname, i.type, i.value, i.shift, i.ctrl, i.properties.release_confirms) for i in items]
         assert keys == [("mesh.heat_geodesic_probe", "LEFTMOUSE", "PRESS", shift, ctrl, True)
                         for shift, ctrl in ((0, 0), (1, 0), (0, 1))]
-    source = (addon.panel.__file__ and open(addon.panel.__file__).read())
-    assert 'layout.operator("mesh.heat_geodesic_probe"' in source
+    from pathlib import Path
+
+    assert 'layout.operator("mesh.heat_geodesic_probe"' in Path(addon.panel.__file__).read_text()
