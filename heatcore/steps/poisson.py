@@ -7,7 +7,11 @@ solution take the known distances at the pinned vertices: a shift where a
 component has one pin, and where it has several, point loads at its pins and a
 constant (one small dense system per component, so that no rounding crosses
 parts). A source of more than ``MAX_PRECOMPUTED_PINS`` pinned vertices gets
-a factorization of the pinned system of its own.
+a factorization of the pinned system of its own. The point loads' responses
+(one grounded solve per pinned vertex) are kept for the vertices pinned most
+recently (``RESPONSE_CACHE_MB``): a point source dragged across neighbouring
+faces (the Blender add-on's probe) pins the same corners again, and its query
+then costs what a vertex source's does.
 
 Examples
 --------
@@ -19,6 +23,8 @@ Examples
 [5.0, 5.0, 5.0]
 """
 
+from collections import OrderedDict
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -26,6 +32,10 @@ import scipy.sparse as sp
 #: prefactored Laplacian (one multi-right-hand-side solve); beyond, it factors
 #: the pinned system for that query.
 MAX_PRECOMPUTED_PINS = 256
+#: Memory (MB) for the unit responses kept for reuse (:meth:`PinnedPoisson.unit_responses`): the most
+#: recently pinned vertices' columns, at least ``MIN_CACHED_RESPONSES`` of them.
+RESPONSE_CACHE_MB = 64
+MIN_CACHED_RESPONSES = 4
 
 
 def grounded(L, ground):
@@ -88,6 +98,7 @@ class PinnedPoisson:
         self.component = component
         self.n_components = n_components
         self.factor_free = factor_free
+        self._responses = OrderedDict()  # vertex -> its grounded unit response (least recently used first)
 
     def solve(self, b, pins, reached):
         """``phi`` minimizing the Dirichlet-energy misfit to ``b`` with ``phi[pins.vertices] = pins.values``.
@@ -106,7 +117,39 @@ class PinnedPoisson:
         return self.factor.solve(rhs)
 
     def unit_responses(self, vertices):
-        """Grounded solutions ``L^-1 e_v`` for the vertices ``v``, as columns."""
+        """Grounded solutions ``L^-1 e_v`` for the vertices ``v``, as columns.
+
+        Columns of recently pinned vertices are reused; the others are solved
+        together and kept (least recently used dropped beyond ``RESPONSE_CACHE_MB``).
+
+        Examples
+        --------
+        >>> import heatcore as hc
+        >>> poisson = hc.HeatSolver(hc.TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0)).poisson
+        >>> Z = poisson.unit_responses(np.array([1, 2]))
+        >>> Z.shape, bool((poisson.unit_responses(np.array([2]))[:, 0] == Z[:, 1]).all())
+        ((3, 2), True)
+        """
+        n = self.laplacian.shape[0]
+        keep = max(MIN_CACHED_RESPONSES, int(RESPONSE_CACHE_MB * 2**20) // (8 * n))
+        if vertices.size > keep:
+            return self._solve_units(vertices)
+        cache = self._responses
+        order = vertices.tolist()
+        missing = [v for v in dict.fromkeys(order) if v not in cache]
+        if missing:
+            solved = self._solve_units(np.asarray(missing))
+            for j, v in enumerate(missing):
+                cache[v] = np.ascontiguousarray(solved[:, j])
+        Z = np.empty((n, len(order)))
+        for j, v in enumerate(order):
+            Z[:, j] = cache[v]
+            cache.move_to_end(v)
+        while len(cache) > keep:
+            cache.popitem(last=False)
+        return Z
+
+    def _solve_units(self, vertices):
         E = np.zeros((self.laplacian.shape[0], vertices.size))
         E[vertices, np.arange(vertices.size)] = 1.0
         return self.solve_grounded(E)  # column j is zero outside the component of its vertex
