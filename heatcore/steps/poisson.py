@@ -7,11 +7,13 @@ solution take the known distances at the pinned vertices: a shift where a
 component has one pin, and where it has several, point loads at its pins and a
 constant (one small dense system per component, so that no rounding crosses
 parts). A source of more than ``MAX_PRECOMPUTED_PINS`` pinned vertices gets
-a factorization of the pinned system of its own. The point loads' responses
-(one grounded solve per pinned vertex) are kept for the vertices pinned most
-recently (``RESPONSE_CACHE_MB``): a point source dragged across neighbouring
-faces (the Blender add-on's probe) pins the same corners again, and its query
-then costs what a vertex source's does.
+a factorization of the pinned system of its own. Several pins cost one solve
+per pin more (their unit responses); on a factor with two halves (the
+supernodal backend: ``forward``/``backward``) they cost one solve in all
+(:meth:`PinnedPoisson._solve_in_halves`), and elsewhere the responses of the
+most recently pinned vertices are kept (``RESPONSE_CACHE_MB``): a point source
+dragged across neighbouring faces (the Blender add-on's probe) pins the same
+corners again.
 
 Examples
 --------
@@ -109,6 +111,10 @@ class PinnedPoisson:
         if P.size > MAX_PRECOMPUTED_PINS:
             everywhere = np.ones(self.laplacian.shape[0], dtype=bool)
             return self._factor_pinned(b, P, d, everywhere if reached is None else reached)
+        if P.size > 1:
+            phi = self._solve_in_halves(b, P, d)
+            if phi is not None:
+                return phi
         return self.apply_pins(self.solve_grounded(b), P, d)
 
     def solve_grounded(self, rhs):
@@ -158,26 +164,74 @@ class PinnedPoisson:
         """Make the grounded solution ``psi`` take the values ``d`` at the pins ``P`` (in place); returns ``psi``."""
         # One pin in a component: a shift. Several: point loads mu at its pins and a constant,
         # one small dense system per component, so that no rounding crosses parts.
-        comp_of_pin = self.component[P]
-        _, local, count = np.unique(comp_of_pin, return_inverse=True, return_counts=True)
-        single = count[local] == 1
-        shift = np.zeros(self.n_components)
-        shift[comp_of_pin[single]] = d[single] - psi[P[single]]
-        several = np.flatnonzero(~single)
+        several = self._several(P)
+        Z = self.unit_responses(P[several]) if several.size else None
+        mu, shift = self._pin_loads(psi[P], None if Z is None else Z[P[several]], P, d, several)
         if several.size:
-            Z = self.unit_responses(P[several])
-            mu = np.zeros(several.size)
-            for c in np.unique(comp_of_pin[several]):
-                cols = np.flatnonzero(comp_of_pin[several] == c)
-                k = cols.size
-                A = np.zeros((k + 1, k + 1))
-                A[:k, :k] = Z[P[several[cols]]][:, cols]
-                A[:k, k] = A[k, :k] = 1.0
-                sol = np.linalg.lstsq(A, np.r_[d[several[cols]] - psi[P[several[cols]]], 0.0], rcond=None)[0]
-                mu[cols], shift[c] = sol[:k], sol[k]
             psi += Z @ mu
         psi += shift[self.component] if self.n_components > 1 else shift[0]
         return psi
+
+    def _several(self, P):
+        """Positions in ``P`` of the pins that share their component with another pin."""
+        _, local, count = np.unique(self.component[P], return_inverse=True, return_counts=True)
+        return np.flatnonzero(count[local] > 1)
+
+    def _pin_loads(self, psi_at_pins, responses, P, d, several):
+        """Point loads ``mu`` at the pins ``P[several]`` and the shift of each component that give the pinned values.
+
+        ``psi_at_pins``: the grounded solution at ``P``; ``responses``: the pins'
+        unit responses at the pins ``P[several]`` (a square block).
+        """
+        comp_of_pin = self.component[P]
+        shift = np.zeros(self.n_components)
+        single = np.ones(P.size, dtype=bool)
+        single[several] = False
+        shift[comp_of_pin[single]] = d[single] - psi_at_pins[single]
+        mu = np.zeros(several.size)
+        for c in np.unique(comp_of_pin[several]):
+            cols = np.flatnonzero(comp_of_pin[several] == c)
+            k = cols.size
+            A = np.zeros((k + 1, k + 1))
+            A[:k, :k] = responses[np.ix_(cols, cols)]
+            A[:k, k] = A[k, :k] = 1.0
+            rows = several[cols]
+            sol = np.linalg.lstsq(A, np.r_[d[rows] - psi_at_pins[rows], 0.0], rcond=None)[0]
+            mu[cols], shift[c] = sol[:k], sol[k]
+        return mu, shift
+
+    def _solve_in_halves(self, b, P, d):
+        """:meth:`solve` of several pins with the factor's two halves, ``K = P^T L L^T P``: one solve in all.
+
+        With ``y = L^-1 P b`` and ``u_v = L^-1 P e_v`` (a sparse forward solve
+        per pin), the grounded solution at the pins is ``u_v . y`` and the pins'
+        unit responses there are ``u_v . u_w``; the point loads ``mu`` follow as
+        in :meth:`apply_pins`, and one backward solve of ``y + sum mu_v u_v``
+        gives the result: the cost of one solve, where :meth:`apply_pins` adds a
+        full solve per pin. Returns None where the factor has no halves or the
+        pins' forward solves would not fit in ``RESPONSE_CACHE_MB``.
+        """
+        n = self.laplacian.shape[0]
+        forward, backward = getattr(self.factor, "forward", None), getattr(self.factor, "backward", None)
+        if forward is None or backward is None or 8 * n * P.size > RESPONSE_CACHE_MB * 2**20:
+            return None
+        b[self.ground] = 0.0
+        y = forward(b)
+        grounded = np.zeros(n, dtype=bool)
+        grounded[self.ground] = True
+        U = np.zeros((n, P.size))
+        unit = np.zeros(n)
+        for j, v in enumerate(P.tolist()):
+            if not grounded[v]:  # a ground vertex's response is 0 (held at 0)
+                unit[v] = 1.0
+                U[:, j] = forward(unit)
+                unit[v] = 0.0
+        several = self._several(P)
+        gram = U[:, several].T @ U[:, several]
+        mu, shift = self._pin_loads(U.T @ y, gram, P, d, several)
+        x = backward(y + U[:, several] @ mu)
+        x += shift[self.component] if self.n_components > 1 else shift[0]
+        return x
 
     def _factor_pinned(self, b, P, d, reached):
         """Pinned Poisson solve with a factorization of its own (many pinned vertices)."""
