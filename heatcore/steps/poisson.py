@@ -34,10 +34,12 @@ import scipy.sparse as sp
 #: prefactored Laplacian (one multi-right-hand-side solve); beyond, it factors
 #: the pinned system for that query.
 MAX_PRECOMPUTED_PINS = 256
-#: Memory (MB) for the unit responses kept for reuse (:meth:`PinnedPoisson.unit_responses`): the most
-#: recently pinned vertices' columns, at least ``MIN_CACHED_RESPONSES`` of them.
+#: The unit responses kept for reuse (:meth:`PinnedPoisson.unit_responses`): the most recently pinned
+#: vertices' columns, at most ``MAX_CACHED_RESPONSES`` and ``RESPONSE_CACHE_MB`` megabytes of them (but at
+#: least ``MIN_CACHED_RESPONSES``). The memory also bounds the forward solves of the supernodal path.
 RESPONSE_CACHE_MB = 64
 MIN_CACHED_RESPONSES = 4
+MAX_CACHED_RESPONSES = 64
 
 
 def grounded(L, ground):
@@ -126,7 +128,8 @@ class PinnedPoisson:
         """Grounded solutions ``L^-1 e_v`` for the vertices ``v``, as columns.
 
         Columns of recently pinned vertices are reused; the others are solved
-        together and kept (least recently used dropped beyond ``RESPONSE_CACHE_MB``).
+        together and kept (least recently used dropped beyond ``MAX_CACHED_RESPONSES`` or
+        ``RESPONSE_CACHE_MB``).
 
         Examples
         --------
@@ -137,7 +140,7 @@ class PinnedPoisson:
         ((3, 2), True)
         """
         n = self.laplacian.shape[0]
-        keep = max(MIN_CACHED_RESPONSES, int(RESPONSE_CACHE_MB * 2**20) // (8 * n))
+        keep = max(MIN_CACHED_RESPONSES, min(MAX_CACHED_RESPONSES, int(RESPONSE_CACHE_MB * 2**20) // (8 * n)))
         if vertices.size > keep:
             return self._solve_units(vertices)
         cache = self._responses
@@ -219,7 +222,7 @@ class PinnedPoisson:
         y = forward(b)
         grounded = np.zeros(n, dtype=bool)
         grounded[self.ground] = True
-        U = np.zeros((n, P.size))
+        U = np.zeros((n, P.size), order="F")  # columns contiguous
         unit = np.zeros(n)
         for j, v in enumerate(P.tolist()):
             if not grounded[v]:  # a ground vertex's response is 0 (held at 0)
@@ -227,9 +230,10 @@ class PinnedPoisson:
                 U[:, j] = forward(unit)
                 unit[v] = 0.0
         several = self._several(P)
-        gram = U[:, several].T @ U[:, several]
-        mu, shift = self._pin_loads(U.T @ y, gram, P, d, several)
-        x = backward(y + U[:, several] @ mu)
+        loaded = U if several.size == P.size else U[:, several]
+        mu, shift = self._pin_loads(U.T @ y, loaded.T @ loaded, P, d, several)
+        y += loaded @ mu
+        x = backward(y)
         x += shift[self.component] if self.n_components > 1 else shift[0]
         return x
 
