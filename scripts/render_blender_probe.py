@@ -52,7 +52,7 @@ def show_only_in_frame(obj, frame):
         obj.keyframe_insert("hide_render", frame=f)
 
 
-def frame_objects(obj, data, frame, caption):
+def frame_objects(obj, data, frame, caption, caption_at):
     """A copy of the mesh with the overlay's colors, a dot at the source and a caption, shown in ``frame`` only."""
     copy = bpy.data.objects.new(f"frame {frame}", obj.data.copy())
     copy.matrix_world = obj.matrix_world
@@ -61,14 +61,15 @@ def frame_objects(obj, data, frame, caption):
     colors.data.foreach_set("color", data.colors.ravel())
     copy.data.color_attributes.active_color = colors
     copy.data.color_attributes.render_color_index = copy.data.color_attributes.active_color_index
-    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.03, location=tuple(data.sources[0]))
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.05, location=tuple(data.sources[0]))
     dot = bpy.context.active_object
-    dot.data.color_attributes.new("dot", "FLOAT_COLOR", "POINT").data.foreach_set(
-        "color", np.tile([1.0, 0.02, 0.0, 1.0], len(dot.data.vertices)).astype(np.float32))
+    red = dot.data.color_attributes.new("dot", "FLOAT_COLOR", "POINT")
+    red.data.foreach_set("color", np.tile([1.0, 0.0, 0.0, 1.0], len(dot.data.vertices)).astype(np.float32))
+    dot.data.color_attributes.active_color = red
     text = bpy.data.curves.new(f"caption {frame}", "FONT")
-    text.body, text.size, text.align_x = caption, 0.09, "CENTER"
+    text.body, text.size, text.align_x = caption, 0.085, "CENTER"
     label = bpy.data.objects.new(text.name, text)
-    label.location, label.rotation_euler = (0.0, -0.8, -0.75), (math.pi / 2, 0.0, 0.0)
+    label.location, label.rotation_euler = caption_at, (math.pi / 2, 0.0, 0.0)
     bpy.context.collection.objects.link(label)
     for item in (copy, dot, label):
         show_only_in_frame(item, frame)
@@ -86,21 +87,29 @@ def main(argv=None):
     probe = addon.GeodesicProbe(obj, isolines=10)
     V = probe.surface.positions
     back = V[:, 2].max() + 1.0
-    xs = np.linspace(V[:, 0].min() + 0.35, V[:, 0].max() - 0.15, args.frames)  # neck to tail, along the back
+    low, high = V.min(axis=0), V.max(axis=0)
+    caption_at = (0.5 * (low[0] + high[0]), low[1], low[2] - 0.12)
+    xs = np.linspace(V[:, 0].min() + 0.5, V[:, 0].max() - 0.15, args.frames)  # neck to tail, along the back
     for frame, x in enumerate(xs, start=1):
         hit = probe.ray_cast((x, 0.0, back), (0.0, 0.0, -1.0))
         probe.move_to(hit.face, hit.barycentric)
         data = probe.overlay_data()
         farthest = probe.distance[np.isfinite(probe.distance)].max()
         caption = f"drag: source at x = {x:+.2f}, farthest {farthest:.2f} ({1000 * probe.timings['update']:.0f} ms)"
-        frame_objects(obj, data, frame, caption)
+        frame_objects(obj, data, frame, caption, caption_at)
     probe.cancel()
     obj.hide_render = True
 
     scene = bpy.context.scene
     cam = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
     bpy.context.collection.objects.link(cam)
-    cam.location, cam.rotation_euler = (0.9, -3.4, 1.5), (math.radians(68), 0.0, math.radians(14))
+    center = 0.5 * (low + high) - [0.0, 0.0, 0.08]  # the caption below
+    extent = float(np.linalg.norm(high - low))
+    direction = np.array([0.0, -1.0, 0.3]) / np.linalg.norm([0.0, -1.0, 0.3])
+    cam.location = center + 1.9 * extent * direction
+    look = center - np.array(cam.location)
+    cam.rotation_euler = (math.atan2(math.hypot(look[0], look[1]), -look[2]), 0.0,
+                          math.atan2(look[1], look[0]) - math.pi / 2)
     scene.camera = cam
     scene.render.engine = "BLENDER_WORKBENCH"
     scene.render.resolution_x, scene.render.resolution_y = args.size
@@ -113,8 +122,9 @@ def main(argv=None):
         scene.render.filepath = str(Path(folder) / "frame_")
         scene.render.image_settings.file_format = "PNG"
         bpy.ops.render.render(animation=True)
-        frames = [Image.open(p).convert("RGB") for p in sorted(Path(folder).glob("frame_*.png"))]
-        palette = frames[len(frames) // 2].quantize(colors=128, method=Image.Quantize.MEDIANCUT)
+        frames = [Image.alpha_composite(Image.new("RGBA", args.size, "white"), Image.open(p).convert("RGBA"))
+                  .convert("RGB") for p in sorted(Path(folder).glob("frame_*.png"))]
+        palette = frames[len(frames) // 2].quantize(colors=255, method=Image.Quantize.MEDIANCUT)
         frames = [f.quantize(palette=palette, dither=Image.Dither.NONE) for f in frames]
         frames[0].save(args.out, save_all=True, append_images=frames[1:], duration=180, loop=0, optimize=True)
     print(f"wrote {args.out} ({Path(args.out).stat().st_size / 1024:.0f} KB, {len(frames)} frames)")
