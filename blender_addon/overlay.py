@@ -212,10 +212,13 @@ class Overlay:
             shader.uniform_float("color", color)
             batch.draw(shader)
         gpu.state.depth_test_set("NONE")
-        gpu.state.point_size_set(POINT_SIZE)
         for batch, shader, color in points:
             shader.bind()
             shader.uniform_float("color", color)
+            try:
+                shader.uniform_float("size", POINT_SIZE)  # POINT_UNIFORM_COLOR's size (Blender 4.1 and later)
+            except ValueError:
+                gpu.state.point_size_set(POINT_SIZE)
             batch.draw(shader)
         gpu.state.point_size_set(1.0)
         gpu.state.blend_set("NONE")
