@@ -114,8 +114,9 @@ class OverlayData:
     @classmethod
     def of(cls, probe):
         """What a :class:`~.probe.GeodesicProbe` shows now: its field, sources, target and path, in world
-        coordinates (the path, measured in Local space, moved by the object's matrix), and the field's isolines
-        where this heatcore has ``heatcore.isolines``."""
+        coordinates (the path, measured in Local space, moved by the object's matrix), and, when no drag is
+        under way, the field's isoline curves (``heatcore.isolines``: 35 ms at 100k vertices, too slow for
+        every mouse move; the colors' stripes show the isolines while dragging)."""
         surface = probe.surface
         data = cls(positions=surface.positions32, triangles=surface.triangles32)
         if probe.distance is not None:
@@ -128,7 +129,7 @@ class OverlayData:
             data.path = np.asarray(probe.path.points if M is None else probe.path.points @ M[:3, :3].T + M[:3, 3],
                                    dtype=np.float32)
         isolines, count = getattr(heatcore, "isolines", None), int(probe.run.outputs["isolines"])
-        if isolines is not None and probe.distance is not None and count:
+        if isolines is not None and probe.distance is not None and count and not probe.dragging:
             curves = isolines(surface.positions, surface.triangles, probe.distance, count)
             data.isolines = [np.asarray(c.points, dtype=np.float32) for c in curves]
         return data

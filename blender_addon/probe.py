@@ -88,6 +88,8 @@ class GeodesicProbe:
         self.target = self.path = self.distance = None
         self.changed = False
         self.ended = False
+        #: A drag under way (set by the tool between press and release): the overlay skips the isoline curves.
+        self.dragging = False
         self._adopted = False
         self.timings = {}
         self.color_table = color_table(self.run.outputs["colormap"], self.run.outputs["isolines"])
@@ -304,13 +306,7 @@ class GeodesicProbe:
         return self.distance
 
     def distance_at(self, face, barycentric=None):
-        """The distance at a surface point (linear in its triangle), or None before the first source.
-
-        Examples
-        --------
-        >>> probe.distance_at(4000, (0.2, 0.3, 0.5))   # doctest: +SKIP
-        1.734...
-        """
+        """The distance at a surface point (linear in its triangle), or None before the first source."""
         if self.distance is None:
             return None
         face, b = self._point(face, barycentric)
@@ -320,12 +316,8 @@ class GeodesicProbe:
         return float(b @ values) if np.isfinite(values).all() else float("inf")
 
     def path_to(self, face, barycentric=None):
-        """The geodesic path to a target point from the nearest source (the shortest of their paths).
-
-        Returns
-        -------
-        heatcore GeodesicPath
-            ``points`` (measured space, source to target) and ``length``.
+        """heatcore's ``GeodesicPath`` (``points`` in measured space, ``length``) to a target point from the
+        nearest source (the shortest of their paths).
 
         Raises
         ------
@@ -341,6 +333,14 @@ class GeodesicProbe:
             raise AddonError("place a source first: the path runs from the nearest source to the target")
         self.target = self._point(face, barycentric)
         return self.update_path()
+
+    def end_drag(self):
+        """The button is up: the path follows the moved source, the overlay gets its isoline curves again."""
+        self.dragging = False
+        if self.target is not None and self.path is None and self.sources:
+            self.update_path()
+        else:
+            self._show()
 
     def update_path(self):
         """Recompute the path to the target from the current sources (after a move); None without a target."""

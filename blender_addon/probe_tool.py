@@ -183,13 +183,12 @@ class ProbeSession:
         else:
             self.probe.move_to(hit.face, hit.barycentric)
             self._say_field()
-        self.dragging = True
+        self.dragging = self.probe.dragging = True
         return {"RUNNING_MODAL"}
 
     def _release(self):
         self.dragging = False
-        if self.probe.target is not None and self.probe.path is None:
-            self.probe.update_path()  # the path follows the moved source once the button is up
+        self.probe.end_drag()  # the path follows the moved source, the isoline curves come back
         return self.confirm() if self.release_confirms else {"RUNNING_MODAL"}
 
     def _format(self, value):

@@ -292,8 +292,9 @@ def test_events_hover_click_drag_shift_ctrl_enter(mods):
     assert len(probe.sources) == 1 and "1 source, farthest" in texts[-1]
     np.testing.assert_allclose(probe.world_point(*probe.sources[0])[:2], [-0.3, -0.5], atol=0.5 / PIXELS)
     np.testing.assert_allclose(probe.overlay_data().sources[0], probe.world_point(*probe.sources[0]), atol=1e-6)
+    assert probe.dragging and probe.overlay_data().isolines == []  # no isoline curves while dragging
     assert s.handle(Event("LEFTMOUSE", "RELEASE", *to_mouse(-0.3, -0.5))) == {"RUNNING_MODAL"}
-    assert not s.dragging
+    assert not s.dragging and not probe.dragging and len(probe.overlay_data().isolines) >= 4
     field = probe.distance.copy()
     assert s.handle(Event("MOUSEMOVE", "NOTHING", *to_mouse(0.5, 0.5))) == {"RUNNING_MODAL"}
     np.testing.assert_array_equal(probe.distance, field)  # hovering after the release: no update
@@ -520,10 +521,15 @@ def test_overlay_colors_are_the_written_colors_at_the_tables_steps(mods):
     np.testing.assert_array_equal(data.positions, world(obj).astype(np.float32))
     np.testing.assert_array_equal(data.triangles, loop_triangle_data(obj.data)[0])
     assert data.triangles.dtype == np.uint32 and data.positions.dtype == np.float32
-    if hasattr(hc, "isolines"):  # heatcore's isoline curves, where this heatcore has them
-        assert len(data.isolines) >= 7
-    else:
-        assert data.isolines == []
+    # heatcore's isoline curves (7 closed loops around the source, on the world positions), but not during a drag
+    curves = hc.isolines(world(obj), loop_triangle_data(obj.data)[0], d, 7)
+    assert len(curves) == len(data.isolines) == 7 and all(c.closed for c in curves)
+    for curve, drawn in zip(curves, data.isolines):
+        np.testing.assert_array_equal(drawn, curve.points.astype(np.float32))
+    probe.dragging = True
+    assert probe.overlay_data().isolines == []
+    probe.end_drag()
+    assert not probe.dragging and len(probe.overlay_data().isolines) == 7
     probe.cancel()
 
 
