@@ -16,7 +16,7 @@ finds them), ``shape`` (which shape is measured), ``undo`` (active color
 across undo), ``material`` (the isoline material), ``legend`` (its
 legend sub-panel), and the interactive tool: ``probe`` (:class:`GeodesicProbe`,
 sources at surface points, the field live), ``probe_surface`` (ray casting
-the displayed mesh), ``overlay`` (what it draws), ``path_curve`` and
+the displayed mesh), ``overlay`` (what it draws), ``curves`` (its path and isolines as curve objects) and
 ``probe_tool`` (its modal operator and toolbar tools).
 
 Examples

@@ -33,7 +33,7 @@ from .background import DONE, FAILED, RUNNING, BackgroundBuild
 from .cache import SOLVERS, geometry_key, same_key
 from .outputs import check_outputs, write_outputs
 from .overlay import Overlay, OverlayData, color_table
-from .path_curve import path_available, write_path_curve
+from .curves import path_available, write_probe_curves
 from .probe_surface import DisplayedSurface, displayed_positions
 from .stages import (
     GeodesicResult,
@@ -59,9 +59,9 @@ class GeodesicProbe:
         is ready); default: build it now.
     overlay : bool
         Draw the field over the 3D Views (:class:`~.overlay.Overlay`).
-    path_curve : bool
-        :meth:`confirm` also writes the geodesic path to the target as a
-        curve object ``"<name> Geodesic Path"``.
+    path_curve, isoline_curves : bool
+        :meth:`confirm` also writes the geodesic path to the target, or the
+        isolines, as curve objects ``"<name> Geodesic Path"``, ``"... Isolines"``.
     **options
         The keywords of :func:`~.api.compute_geodesic_distance` but the
         sources (``space``, ``shape``, outputs, solver options).
@@ -73,7 +73,7 @@ class GeodesicProbe:
         :func:`~.api.compute_geodesic_distance` refuses.
     """
 
-    def __init__(self, obj, *, background=False, overlay=True, path_curve=False, **options):
+    def __init__(self, obj, *, background=False, overlay=True, path_curve=False, isoline_curves=False, **options):
         if obj is None or getattr(obj, "type", None) != "MESH":
             raise AddonError(f"the geodesic probe needs a mesh object; {getattr(obj, 'name', obj)!r} is not one")
         if options.pop("new_object", False):
@@ -82,7 +82,7 @@ class GeodesicProbe:
         if not len(obj.data.polygons):
             raise AddonError(f"the geodesic probe places sources on faces: mesh {obj.data.name!r} has none")
         self.notes = self.run.notes
-        self.path_curve = path_curve
+        self.path_curve, self.isoline_curves = path_curve, isoline_curves
         self.sources = []  # (face, barycentric) or (vertex, None)
         self.active = None  # index of the dragged source
         self.target = self.path = self.distance = None
@@ -398,8 +398,7 @@ class GeodesicProbe:
         run = self.run
         check_outputs(obj, **run.outputs)
         dmax = write_outputs(obj, self.distance, run.space, **run.outputs)
-        if self.path_curve and self.path is not None:
-            write_path_curve(obj, self.overlay_data().path)
+        write_probe_curves(self, obj)
         if push_undo and bpy.ops.ed.undo_push.poll():
             bpy.ops.ed.undo_push(message="Geodesic Probe")
         self.end()

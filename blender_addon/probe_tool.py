@@ -316,6 +316,11 @@ class MESH_OT_heat_geodesic_probe(bpy.types.Operator):
                     "'<name> Geodesic Path'",
         default=False,
     )
+    isoline_curves: BoolProperty(
+        name="Isoline Curves",
+        description="When applied, also write the isolines as a curve object '<name> Geodesic Isolines'",
+        default=False,
+    )
 
     @classmethod
     def poll(cls, context):
@@ -339,7 +344,8 @@ class MESH_OT_heat_geodesic_probe(bpy.types.Operator):
             self.report({"WARNING"}, "Geodesic probe: measured on the object itself (Apply All Modifiers is off "
                                      "for the probe)")
         try:
-            probe = GeodesicProbe(context.active_object, background=True, path_curve=self.path_curve, **options)
+            probe = GeodesicProbe(context.active_object, background=True, path_curve=self.path_curve,
+                                  isoline_curves=self.isoline_curves, **options)
         except (Busy, *REPORTED_ERRORS) as exc:
             self.report({"ERROR"}, f"Geodesic probe: {exc}")
             return {"CANCELLED"}
@@ -387,7 +393,9 @@ class _ProbeTool:
     )
 
     def draw_settings(context, layout, tool):
-        layout.prop(tool.operator_properties(OPERATOR), "path_curve")
+        props = tool.operator_properties(OPERATOR)
+        layout.prop(props, "path_curve")
+        layout.prop(props, "isoline_curves")
 
 
 class VIEW3D_WT_heat_geodesic_probe_object(_ProbeTool, bpy.types.WorkSpaceTool):

@@ -33,7 +33,7 @@ HAS_PATHS = hasattr(hc.HeatSolver, "geodesic_path")
 
 @pytest.fixture(scope="module")
 def mods(addon):  # noqa: F811
-    names = ("probe", "probe_tool", "probe_surface", "overlay", "path_curve", "adapters", "api", "background", "legend")
+    names = ("probe", "probe_tool", "probe_surface", "overlay", "curves", "adapters", "api", "background", "legend")
     return {name: importlib.import_module(f"blender_addon.{name}") for name in names}
 
 
@@ -556,9 +556,10 @@ def test_overlay_geometry_helpers(mods):
     assert overlay.offset_projection(orthographic, 10.0)[2][3] == pytest.approx(orthographic[2][3] - 5e-5)
 
 
-def test_the_path_target_and_the_path_curve(mods):
+def test_the_path_target_and_the_curve_objects(mods):
     obj = grid(10)
-    probe = mods["probe"].GeodesicProbe(obj, refine=0, boundary="neumann", path_curve=True)
+    probe = mods["probe"].GeodesicProbe(obj, refine=0, boundary="neumann", path_curve=True, isoline_curves=True,
+                                        isolines=5)
     with pytest.raises(mods["adapters"].AddonError, match="place a source first|needs heatcore's geodesic paths"):
         probe.path_to(5, (1 / 3, 1 / 3, 1 / 3))
     probe.add(3, (0.2, 0.3, 0.5))
@@ -569,27 +570,37 @@ def test_the_path_target_and_the_path_curve(mods):
         straight = np.linalg.norm(path.points[-1] - path.points[0])
         assert path.length == pytest.approx(straight, rel=1e-9)  # a flat grid: a straight line
         np.testing.assert_array_equal(probe.overlay_data().path, path.points.astype(np.float32))
-        probe.confirm()
+    else:
+        with pytest.raises(mods["adapters"].AddonError, match="needs heatcore's geodesic paths"):
+            probe.path_to(150, (0.5, 0.25, 0.25))
+        assert probe.target is None and probe.overlay_data().path is None
+    d = probe.distance
+    probe.confirm()
+    if HAS_PATHS:
         curve = bpy.data.objects["Grid Geodesic Path"]
         co = np.empty(4 * len(curve.data.splines[0].points))
         curve.data.splines[0].points.foreach_get("co", co)
         np.testing.assert_allclose(co.reshape(-1, 4)[:, :3], path.points, atol=1e-6)
     else:
-        with pytest.raises(mods["adapters"].AddonError, match="needs heatcore's geodesic paths"):
-            probe.path_to(150, (0.5, 0.25, 0.25))
-        assert probe.target is None and probe.overlay_data().path is None
-        probe.confirm()
         assert "Grid Geodesic Path" not in bpy.data.objects  # no path, no curve
+    isolines = bpy.data.objects["Grid Geodesic Isolines"]
+    expected = hc.isolines(world(obj), loop_triangle_data(obj.data)[0], d, 5)
+    assert len(isolines.data.splines) == len(expected) >= 5
+    for spline, line in zip(isolines.data.splines, expected):
+        co = np.empty(4 * len(spline.points))
+        spline.points.foreach_get("co", co)
+        np.testing.assert_allclose(co.reshape(-1, 4)[:, :3], line.points, atol=1e-6)
+        assert spline.use_cyclic_u == line.closed
     # The curve writer itself: made once, updated in place.
-    write = mods["path_curve"].write_path_curve
-    first = write(obj, [[0, 0, 0], [1, 0, 0], [1, 1, 0]])
-    second = write(obj, [[0, 0, 1], [2, 0, 1]])
+    write = mods["curves"].write_curves
+    first = write(obj, "Path", [[[0, 0, 0], [1, 0, 0], [1, 1, 0]]])
+    second = write(obj, "Path", [[[0, 0, 1], [2, 0, 1]]])
     assert first == second and first.name == "Grid Geodesic Path" and len(first.data.splines) == 1
     co = np.empty(8)
     second.data.splines[0].points.foreach_get("co", co)
     np.testing.assert_array_equal(co, [0, 0, 1, 1, 2, 0, 1, 1])
     assert first.users_collection[0] == obj.users_collection[0]
-    assert not mods["path_curve"].path_available(object())
+    assert not mods["curves"].path_available(object())
 
 
 def test_edit_mode_checks_do_not_flag_themselves(mods):
