@@ -11,7 +11,7 @@ Modules: ``adapters`` (bpy <-> arrays), ``cache`` (prefactored solvers),
 stages: prepare, build, finish), ``outputs`` (what a run writes),
 ``background`` (the solver build in a worker thread), ``properties``,
 ``operator``, ``panel`` (the sidebar panel and its *Advanced* sub-panel),
-``menus`` (entries in the Edit Mode, Object Mode and Weight Paint menus; F3
+``isoline_operator`` (the *Isoline Curves* operator), ``menus`` (entries in the Edit Mode, Object Mode and Weight Paint menus; F3
 finds them), ``shape`` (which shape is measured), ``undo`` (active color
 across undo), ``material`` (the isoline material), ``legend`` (its
 legend sub-panel), and the interactive tool: ``probe`` (:class:`GeodesicProbe`,
@@ -31,7 +31,7 @@ Examples
 
 import bpy
 
-from . import menus, operator, panel, probe_tool, properties, undo
+from . import isoline_operator, menus, operator, panel, probe_tool, properties, undo
 from .adapters import AddonError
 from .api import GeodesicResult, compute_geodesic_distance
 from .background import BackgroundBuild
@@ -46,6 +46,7 @@ def register():
     properties.register()
     bpy.utils.register_class(operator.MESH_OT_heat_geodesic_distance)
     probe_tool.register()
+    bpy.utils.register_class(isoline_operator.MESH_OT_heat_geodesic_isoline_curves)
     panel.register()
     undo.register()
     menus.register()
@@ -57,6 +58,7 @@ def unregister():
     undo.unregister()
     panel.unregister()
     probe_tool.unregister()
+    bpy.utils.unregister_class(isoline_operator.MESH_OT_heat_geodesic_isoline_curves)
     bpy.utils.unregister_class(operator.MESH_OT_heat_geodesic_distance)
     properties.unregister()
     BackgroundBuild.cancel_running()  # a build still running stops at its next stage; nothing is kept

@@ -4,7 +4,8 @@ Edit Mode: the right-click context menu, the header's *Vertex* menu and
 *Mesh › Weights*; Object Mode: the *Object* menu and the right-click
 context menu (mesh objects); Weight Paint: the *Weights* menu. The *Weights*
 entries run the operator with the vertex-group output on; the others have the
-interactive *Geodesic Probe* (:mod:`.probe_tool`) just above it. Blender's menu
+interactive *Geodesic Probe* (:mod:`.probe_tool`) just above it; the Edit Mode
+context menu and the two Object Mode menus also hold *Isoline Curves* after it. Blender's menu
 search (F3) finds every entry, by its label, in the mode where its menu is
 shown. :data:`ENTRIES` lists them; :func:`register` appends one draw function
 per menu (never twice) and :func:`unregister` removes them all.
@@ -12,6 +13,7 @@ per menu (never twice) and :func:`unregister` removes them all.
 
 import bpy
 
+from .isoline_operator import MESH_OT_heat_geodesic_isoline_curves
 from .operator import MESH_OT_heat_geodesic_distance
 from .probe_tool import MESH_OT_heat_geodesic_probe
 
@@ -19,12 +21,17 @@ OPERATOR = MESH_OT_heat_geodesic_distance.bl_idname
 PROBE = MESH_OT_heat_geodesic_probe.bl_idname
 ICON = "DRIVER_DISTANCE"
 PROBE_ICON = "CURSOR"
+#: The *Isoline Curves* operator, drawn after the distance entry in :data:`CURVE_MENUS`.
+CURVES_OPERATOR = MESH_OT_heat_geodesic_isoline_curves.bl_idname
+CURVES_ICON = "OUTLINER_OB_CURVE"
+CURVE_MENUS = ("VIEW3D_MT_edit_mesh_context_menu", "VIEW3D_MT_object", "VIEW3D_MT_object_context_menu")
 #: Marker attribute of our draw functions (finds entries left by an earlier copy of the module).
 MARK = "_heat_geodesic_entry"
 
 
-def _entry(menu, text, weights=False, mesh_only=False):
-    """A draw function adding the operator's entry to ``menu`` (a separator, the probe unless ``weights``, the entry)."""
+def _entry(menu, text, weights=False, mesh_only=False, curves=False):
+    """A draw function adding the operator's entry to ``menu`` (a separator, the probe unless ``weights``,
+    the entry; with ``curves``, then the *Isoline Curves* entry)."""
 
     def draw(self, context):
         if mesh_only:
@@ -40,6 +47,8 @@ def _entry(menu, text, weights=False, mesh_only=False):
         props = layout.operator(OPERATOR, text=text, icon=ICON)
         if weights:
             props.write_weights = True
+        if curves:
+            layout.operator(CURVES_OPERATOR, text="Isoline Curves", icon=CURVES_ICON)
 
     draw.__name__ = draw.__qualname__ = f"draw_heat_geodesic_{menu}"
     setattr(draw, MARK, menu)
@@ -48,12 +57,13 @@ def _entry(menu, text, weights=False, mesh_only=False):
 
 #: (menu class name, draw function): where the operator appears.
 ENTRIES = (
-    ("VIEW3D_MT_edit_mesh_context_menu", _entry("VIEW3D_MT_edit_mesh_context_menu", "Geodesic Distance")),
+    ("VIEW3D_MT_edit_mesh_context_menu", _entry("VIEW3D_MT_edit_mesh_context_menu", "Geodesic Distance", curves=True)),
     ("VIEW3D_MT_edit_mesh_vertices", _entry("VIEW3D_MT_edit_mesh_vertices", "Geodesic Distance")),
     ("VIEW3D_MT_select_edit_mesh", _entry("VIEW3D_MT_select_edit_mesh", "Geodesic Distance")),
     ("VIEW3D_MT_edit_mesh_weights", _entry("VIEW3D_MT_edit_mesh_weights", "Geodesic Distance Weights", weights=True)),
-    ("VIEW3D_MT_object", _entry("VIEW3D_MT_object", "Geodesic Distance", mesh_only=True)),
-    ("VIEW3D_MT_object_context_menu", _entry("VIEW3D_MT_object_context_menu", "Geodesic Distance", mesh_only=True)),
+    ("VIEW3D_MT_object", _entry("VIEW3D_MT_object", "Geodesic Distance", mesh_only=True, curves=True)),
+    ("VIEW3D_MT_object_context_menu",
+     _entry("VIEW3D_MT_object_context_menu", "Geodesic Distance", mesh_only=True, curves=True)),
     ("VIEW3D_MT_paint_weight", _entry("VIEW3D_MT_paint_weight", "Geodesic Distance Weights", weights=True)),
 )
 

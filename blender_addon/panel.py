@@ -27,7 +27,9 @@ class VIEW3D_PT_heat_geodesic(bpy.types.Panel):
         settings = context.scene.heat_geodesic
         obj = context.active_object
 
-        layout.operator("mesh.heat_geodesic_distance", icon="DRIVER_DISTANCE")
+        row = layout.row(align=True)
+        row.operator("mesh.heat_geodesic_distance", icon="DRIVER_DISTANCE")
+        row.operator("mesh.heat_geodesic_isoline_curves", text="Curves", icon="OUTLINER_OB_CURVE")
         layout.operator("mesh.heat_geodesic_probe", icon="CURSOR")
 
         col = layout.column(heading="Sources")

@@ -112,6 +112,7 @@ def mode(obj, name):
 # ---------------------------------------------------------------- menus
 
 WEIGHT_MENUS = {"VIEW3D_MT_paint_weight", "VIEW3D_MT_edit_mesh_weights"}
+CURVE_MENUS = {"VIEW3D_MT_edit_mesh_context_menu", "VIEW3D_MT_object", "VIEW3D_MT_object_context_menu"}
 #: A built-in operator each menu draws (its own draw ran, ours came after).
 BUILT_IN = {
     "VIEW3D_MT_edit_mesh_context_menu": "mesh.extrude_vertices_move",
@@ -143,7 +144,13 @@ def test_each_menu_draws_our_entry_last_with_invoke(addon, menu):
     ours = operators(log)
     assert len(ours) == 1, ours
     _, _, kw, context, props = ours[0]
-    assert [e for e in log if e[0] == "operator"][-1] is ours[0]
+    curves = operators(log, "mesh.heat_geodesic_isoline_curves")
+    last = [e for e in log if e[0] == "operator"][-1 - len(curves):]
+    assert last[0] is ours[0]
+    # Isoline Curves follows the distance entry in the Edit Mode context menu and the Object Mode menus.
+    assert len(curves) == (menu in CURVE_MENUS)
+    if curves:
+        assert last[1] is curves[0] and curves[0][2]["text"] == "Isoline Curves" and curves[0][3] == "INVOKE_REGION_WIN"
     # Invoked, so options not set by the entry come from the panel (Blender's Object menu ends in EXEC).
     assert context == "INVOKE_REGION_WIN"
     assert kw["icon"] == "DRIVER_DISTANCE"
@@ -158,9 +165,11 @@ def test_each_menu_draws_our_entry_last_with_invoke(addon, menu):
 @pytest.mark.parametrize("menu", ["VIEW3D_MT_object", "VIEW3D_MT_object_context_menu"])
 def test_object_menus_show_the_entry_for_meshes_only(addon, menu):
     bpy.ops.object.empty_add()
-    assert not operators(draw(getattr(bpy.types, menu)))
+    log = draw(getattr(bpy.types, menu))
+    assert not operators(log) and not operators(log, "mesh.heat_geodesic_isoline_curves")
     ico_sphere(subdivisions=1)
-    assert len(operators(draw(getattr(bpy.types, menu)))) == 1
+    log = draw(getattr(bpy.types, menu))
+    assert len(operators(log)) == 1 and len(operators(log, "mesh.heat_geodesic_isoline_curves")) == 1
 
 
 def test_register_twice_or_a_reloaded_copy_adds_no_duplicate_and_unregister_removes_all(addon):
@@ -380,3 +389,10 @@ def test_the_licenses_are_those_of_the_installed_packages():
         assert words in stated, f"{name}: {stated[:200]!r}"
         checked += 1
     assert checked >= 1
+
+
+def test_panel_has_the_distance_and_isoline_curves_buttons(addon):
+    log = draw(addon.panel.VIEW3D_PT_heat_geodesic)
+    assert len(operators(log)) == 1
+    (curves,) = operators(log, "mesh.heat_geodesic_isoline_curves")
+    assert curves[2]["text"] == "Curves"

@@ -1,0 +1,109 @@
+"""Isoline curves of a :class:`pymeshlab.MeshSet`'s current mesh as a new edge-mesh layer.
+
+:func:`isoline_curves_layer` reads the distance the filter
+(:func:`heatcore.apps.meshlab_filter.geodesic_distance_from_selection`) wrote,
+as vertex quality or a custom vertex scalar attribute, computes its isolines
+with :func:`heatcore.isolines` and adds them to the MeshSet as one mesh of
+vertices and edges (no faces): each isoline a chain of edges, closed ones
+closed by an edge back to their first point. Negative values (the filter's
+``unreachable = -1``) count as unreachable: the curves end there.
+
+Examples
+--------
+>>> isoline_curves_layer.__name__
+'isoline_curves_layer'
+"""
+
+import numpy as np
+
+from ..contours import isoline_levels, isolines
+from ..errors import InvalidOptionError
+
+
+def _levels(d, levels, spacing):
+    if spacing is not None:
+        if not spacing > 0:
+            raise InvalidOptionError(f"spacing must be positive, got {spacing!r}")
+        finite = d[np.isfinite(d)]
+        return spacing * np.arange(1, int(np.ceil(finite.max() / spacing))) if finite.size else np.zeros(0)
+    if isinstance(levels, (int, np.integer)) and not isinstance(levels, bool):
+        return isoline_levels(d, levels)
+    return np.asarray(levels, dtype=float).ravel()
+
+
+def edge_mesh_arrays(curves):
+    """Vertices and edges of polylines: (k, 3) points and (e, 2) int32 edges, a closing edge per closed curve.
+
+    Examples
+    --------
+    >>> import heatcore as hc
+    >>> V = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]); F = np.array([[0, 1, 2]])
+    >>> P, E = edge_mesh_arrays(hc.isolines(V, F, np.array([0.0, 1.0, 1.0]), [0.5]))
+    >>> P.tolist(), E.tolist()
+    ([[0.0, 0.5, 0.0], [0.5, 0.0, 0.0]], [[0, 1]])
+    """
+    points, edges, start = [np.zeros((0, 3))], [np.zeros((0, 2), dtype=np.int32)], 0
+    for c in curves:
+        k = len(c.points)
+        idx = np.arange(start, start + k, dtype=np.int32)
+        pairs = np.column_stack([idx[:-1], idx[1:]])
+        if c.closed and k > 2:
+            pairs = np.vstack([pairs, [[idx[-1], idx[0]]]])
+        points.append(np.asarray(c.points, dtype=float))
+        edges.append(pairs.astype(np.int32))
+        start += k
+    return np.vstack(points), np.vstack(edges)
+
+
+def isoline_curves_layer(ms, levels=8, spacing=None, attribute=None, name="isolines", set_as_current=False):
+    """Add the isolines of the current mesh's distance to ``ms`` as a new edge-mesh layer.
+
+    Parameters
+    ----------
+    ms : pymeshlab.MeshSet
+        Its current mesh holds the distance (run the filter first).
+    levels : int or sequence of float
+        A number of evenly spaced levels (``max * j / (levels + 1)``) or the levels themselves.
+    spacing : float, optional
+        When given: a level at every multiple of it below the largest distance (``levels`` is ignored).
+    attribute : str, optional
+        Custom vertex scalar attribute to read; default the vertex quality.
+    name : str
+        Name of the new layer.
+    set_as_current : bool
+        Make the new layer current (default: the surface stays current).
+
+    Returns
+    -------
+    dict
+        ``id`` (the new layer's id), ``curves``, ``closed``, ``points``, ``edges``, ``levels``.
+
+    Examples
+    --------
+    >>> import pytest
+    >>> pymeshlab = pytest.importorskip("pymeshlab")  # the test extra
+    >>> V = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]); F = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
+    >>> ms = pymeshlab.MeshSet()
+    >>> ms.add_mesh(pymeshlab.Mesh(V, F, v_scalar_array=V[:, 0] + V[:, 1]))
+    >>> out = isoline_curves_layer(ms, levels=[1.0])
+    >>> out["curves"], ms.mesh_number(), ms.mesh(out["id"]).edge_matrix().tolist()
+    (1, 2, [[0, 1]])
+    """
+    import pymeshlab  # the caller has imported it (after bpy, where both are used)
+
+    mesh = ms.current_mesh()
+    V, F = mesh.vertex_matrix(), mesh.face_matrix()
+    if attribute is None:
+        d = np.array(mesh.vertex_scalar_array(), dtype=float)
+    else:
+        d = np.array(mesh.vertex_custom_scalar_attribute_array(attribute), dtype=float)
+    d[d < 0] = np.inf  # the filter's unreachable vertices
+    current = mesh.id()
+    curves = isolines(V, F, d, _levels(d, levels, spacing))
+    P, E = edge_mesh_arrays(curves)
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=P, edge_matrix=E), mesh_name=name, set_as_current=True)
+    new = ms.current_mesh_id()
+    if not set_as_current:
+        ms.set_current_mesh(current)
+    return {"id": new, "curves": len(curves), "closed": sum(c.closed for c in curves),
+            "points": len(P), "edges": len(E), "levels": sorted({c.level for c in curves})}
