@@ -58,8 +58,19 @@ def write_curves(obj, kind, polylines, closed=None):
         curve[CURVE_MARKER] = mark
         for collection in obj.users_collection or (bpy.context.scene.collection,):
             collection.objects.link(curve)
-    data = curve.data
-    data.splines.clear()
+    curve.data.splines.clear()
+    fill_splines(curve.data, polylines, closed)
+    curve.matrix_world = Matrix.Identity(4)
+    return curve
+
+
+def fill_splines(data, polylines, closed=None):
+    """Add one poly spline per polyline (``(k, 3)`` points) to the curve ``data``, cyclic where ``closed`` says so.
+
+    Examples
+    --------
+    >>> fill_splines(bpy.data.curves.new("c", "CURVE"), [[[0, 0, 0], [1, 0, 0]]])   # doctest: +SKIP
+    """
     for k, line in enumerate(polylines):
         points = np.asarray(line, dtype=np.float32).reshape(-1, 3)
         spline = data.splines.new("POLY")
@@ -68,8 +79,6 @@ def write_curves(obj, kind, polylines, closed=None):
         co[:, :3] = points
         spline.points.foreach_set("co", co.ravel())
         spline.use_cyclic_u = bool(closed[k]) if closed is not None else False
-    curve.matrix_world = Matrix.Identity(4)
-    return curve
 
 
 def write_probe_curves(probe, obj):

@@ -22,6 +22,7 @@ from bpy.props import FloatProperty, IntProperty, StringProperty
 
 from ._heatcore import heatcore
 from .adapters import AddonError, mesh_arrays, stored
+from .curves import fill_splines
 from .shape import measured_positions
 
 #: Custom property of the curve objects this operator made (value: the mesh object's name).
@@ -79,13 +80,7 @@ def write_curve(obj, curves, name):
     """
     data = bpy.data.curves.new(name, type="CURVE")
     data.dimensions = "3D"
-    for iso in curves:
-        spline = data.splines.new("POLY")
-        spline.points.add(len(iso.points) - 1)
-        co = np.ones((len(iso.points), 4))
-        co[:, :3] = iso.points
-        spline.points.foreach_set("co", co.ravel())
-        spline.use_cyclic_u = bool(iso.closed)
+    fill_splines(data, [iso.points for iso in curves], [iso.closed for iso in curves])
     target = bpy.data.objects.get(name)
     if target is not None and target.get(MARKER) is not None and target.type == "CURVE":
         old = target.data
