@@ -113,6 +113,16 @@ class SolverError(HeatcoreError, RuntimeError):
     """
 
 
+class UnsupportedDomainError(HeatcoreError, TypeError):
+    """An operation asked of a domain that does not have it (geodesic paths on a point cloud, say).
+
+    Examples
+    --------
+    >>> issubclass(UnsupportedDomainError, TypeError)
+    True
+    """
+
+
 class HeatcoreWarning(UserWarning):
     """Input was repaired (duplicate or degenerate faces dropped) or a result is degraded.
 

@@ -45,6 +45,7 @@ from .linalg import (
     start_nested_dissection,
 )
 from .options import check
+from .paths.queries import PathQueries
 from .progress import Progress
 from .steps.blocks import block_columns, source_sequence
 from .steps.poisson import MAX_PRECOMPUTED_PINS, PinnedPoisson, grounded
@@ -60,7 +61,7 @@ _DOMAIN_FACTORS = weakref.WeakKeyDictionary()
 #: The solver's options, declared in :mod:`heatcore.options`.
 OPTION_NAMES = ("m", "boundary", "accuracy", "backend")
 
-class HeatSolver(VoronoiQueries):
+class HeatSolver(VoronoiQueries, PathQueries):
     """Prefactored heat-method distance on one domain; cheap queries.
 
     Parameters

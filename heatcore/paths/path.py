@@ -1,0 +1,229 @@
+"""The geodesic path between two points of a triangle mesh: :class:`GeodesicPath` and the method's driver.
+
+Method (docs/paths.md):
+
+1. the heat distance ``phi`` from the source (one query of the solver's
+   factorizations, kept for further targets from the same source);
+2. steepest descent on ``phi`` from the target to the source
+   (:func:`~heatcore.paths.trace.descend`): the faces the path crosses, which
+   fixes on which side of every hill and hole it goes;
+3. the shortest path inside that strip of faces, unfolded into the plane
+   (:func:`~heatcore.paths.funnel.shortest_in_strip`), with every bend that has
+   less than ``pi`` on one side cut on that side until none is left
+   (:func:`~heatcore.paths.straighten.straighten`): a geodesic, exact to
+   rounding in its homotopy class.
+
+Examples
+--------
+>>> import numpy as np, heatcore as hc
+>>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
+>>> solver = hc.HeatSolver(hc.TriangleMesh(V, [[0, 1, 2], [1, 3, 2]]))
+>>> path = solver.geodesic_path(0, 3)
+>>> path.points.tolist(), round(path.length, 12)
+([[0.0, 0.0, 0.0], [0.5, 0.5, 0.0], [1.0, 1.0, 0.0]], 1.414213562373)
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..domains.triangle import TriangleMesh
+from ..eikonal import refine_distance
+from ..errors import InvalidSourceError, UnsupportedDomainError
+from .straighten import straighten
+from .surface import PathMesh
+from .trace import Route, descend, face_gradients
+
+
+@dataclass(frozen=True)
+class GeodesicPath:
+    """A path on a triangle mesh's surface: a polyline whose every segment lies in one face.
+
+    Attributes
+    ----------
+    points : (k, 3) float array
+        From the source (first) to the target (last); ``k == 1`` when they are the same point.
+    faces : (k - 1,) int array
+        The input face each segment lies in.
+    edges : (k, 2) int array
+        The input edge (two input vertex indices, ascending) each point lies
+        inside; ``[-1, -1]`` for points at a vertex or inside a face.
+    vertices : (k,) int array
+        The input vertex each point is, or -1.
+    length : float
+        Sum of the segments' lengths: the length of a path on the surface,
+        never less than the geodesic distance.
+
+    Examples
+    --------
+    >>> import heatcore as hc
+    >>> solver = hc.HeatSolver(hc.TriangleMesh(*hc.io.load_demo_mesh()))
+    >>> path = solver.geodesic_path(0, 1453)
+    >>> path.points.shape[1], path.vertices[0], path.vertices[-1], path.faces.size == len(path.points) - 1
+    (3, 0, 1453, True)
+    >>> bool(abs(path.length - solver.distance([0])[1453]) < 0.02 * path.length)  # the heat distance is close
+    True
+    """
+
+    points: np.ndarray
+    faces: np.ndarray
+    edges: np.ndarray
+    vertices: np.ndarray
+    length: float
+
+    def __len__(self):
+        return len(self.points)
+
+    @classmethod
+    def from_surface_points(cls, mesh, points, faces):
+        """The path through :class:`~heatcore.paths.surface.SurfacePoint` ``points`` with segment faces (rows)."""
+        xyz = np.array([p.position for p in points], dtype=float).reshape(-1, 3)
+        vertices = np.array([mesh.input_vertex[p.vertex] if p.vertex >= 0 else -1 for p in points], dtype=np.int64)
+        edges = np.full((len(points), 2), -1, dtype=np.int64)
+        for i, p in enumerate(points):
+            if p.vertex < 0 and p.edge is not None:
+                edges[i] = np.sort(mesh.input_vertex[list(p.edge)])
+        rows = np.asarray(faces, dtype=np.int64)
+        length = float(np.linalg.norm(np.diff(xyz, axis=0), axis=1).sum())
+        return cls(xyz, mesh.face_ids[rows], edges, vertices, length)
+
+
+class PathField:
+    """The distance from one source and its per-face gradient, kept for further targets.
+
+    Examples
+    --------
+    >>> import heatcore as hc
+    >>> solver = hc.HeatSolver(hc.TriangleMesh(*hc.io.load_demo_mesh()))
+    >>> field = PathField.of(solver, PathMesh.of(solver.domain).vertex_point(0))
+    >>> field is PathField.of(solver, PathMesh.of(solver.domain).vertex_point(0))
+    True
+    """
+
+    def __init__(self, phi, grad, key):
+        self.phi, self.grad, self.key = phi, grad, key
+
+    @classmethod
+    def of(cls, solver, source):
+        """The field of ``source`` (a :class:`SurfacePoint`) on ``solver``: the cached one, or one query."""
+        cached = getattr(solver, "_path_field", None)
+        if cached is not None and cached.key == source.key():
+            return cached
+        mesh = PathMesh.of(solver.domain)
+        if source.vertex >= 0:
+            pins = solver.domain.source_pins([int(mesh.input_vertex[source.vertex])])
+        else:
+            face = int(mesh.face_ids[source.face])
+            pins = solver.domain.source_pins(points=([face], [mesh.bary_in(source.face, source)]))
+        phi = solver.distance_from_pins(pins)
+        if solver.accuracy != "high":  # the eikonal pass: a better route for little more time
+            phi = refine_distance(solver.domain, phi, pins)
+        phi = phi[: mesh.positions.shape[0]]
+        field = cls(phi, face_gradients(mesh, phi), source.key())
+        solver._path_field = field
+        return field
+
+
+def geodesic_path(solver, source, target):
+    """The geodesic path from ``source`` to ``target`` on ``solver``'s triangle mesh.
+
+    See :meth:`heatcore.HeatSolver.geodesic_path`.
+
+    Examples
+    --------
+    >>> import heatcore as hc
+    >>> solver = hc.HeatSolver(hc.TriangleMesh(*hc.io.load_demo_mesh()))
+    >>> geodesic_path(solver, 5, 5).length
+    0.0
+    """
+    domain = solver.domain
+    if not isinstance(domain, TriangleMesh):
+        raise UnsupportedDomainError(
+            f"geodesic paths are computed on triangle meshes (heatcore.TriangleMesh), not on a "
+            f"{domain.domain_name} ({type(domain).__name__})"
+        )
+    mesh = PathMesh.of(domain)
+    s = mesh.user_point(source, "source")
+    t = mesh.user_point(target, "target")
+    part_s, part_t = (int(solver.component[mesh.faces[p.face, 0]]) for p in (s, t))
+    if part_s != part_t:
+        raise InvalidSourceError(
+            f"the target ({_describe(target)}) lies in part {part_t} of the mesh and the source "
+            f"({_describe(source)}) in part {part_s}: no path on the surface joins two parts"
+        )
+    if s.key() == t.key() or np.array_equal(s.position, t.position):
+        return GeodesicPath.from_surface_points(mesh, [s], [])
+    field = PathField.of(solver, s)
+    points, faces = shortest_of_routes(mesh, candidate_routes(mesh, field, s, t), s, t)
+    return GeodesicPath.from_surface_points(mesh, points, faces)
+
+
+def candidate_routes(mesh, field, s, t):
+    """Routes from ``t`` down to ``s``: the descent from ``t``, and one from each vertex around ``t``.
+
+    The descent decides on which side of every hill a route goes; where two
+    sides are close in length, a descent from a neighbouring start may take
+    the other one. The routes from the vertices around ``t`` start with the
+    face holding ``t`` and that vertex. Routes that are the same are given once.
+
+    Examples
+    --------
+    >>> import heatcore as hc
+    >>> solver = hc.HeatSolver(hc.TriangleMesh(*hc.io.load_demo_mesh()))
+    >>> mesh = PathMesh.of(solver.domain)
+    >>> s, t = mesh.vertex_point(0), mesh.vertex_point(1453)
+    >>> routes = candidate_routes(mesh, PathField.of(solver, s), s, t)
+    >>> 1 < len(routes) <= 1 + len(mesh.faces_of(1453))
+    True
+    """
+    routes = [descend(mesh, field.phi, field.grad, t, s)]
+    t_faces = mesh.star(t)
+    if set(t_faces) & set(mesh.star(s)):  # one face holds both: the straight segment
+        return routes
+    seen = {_route_key(routes[0])}
+    for u in np.unique(mesh.faces[t_faces]).tolist():
+        if u == t.vertex or u == s.vertex:
+            continue
+        rest = descend(mesh, field.phi, field.grad, mesh.vertex_point(u), s)
+        first = next(f for f in t_faces if (mesh.faces[f] == u).any())
+        route = Route([[first]] + rest.legs, [u] + rest.joints, rest.fallback)
+        key = _route_key(route)
+        if key not in seen:
+            seen.add(key)
+            routes.append(route)
+    return routes
+
+
+def shortest_of_routes(mesh, routes, s, t):
+    """The shortest of the geodesics the ``routes`` (from ``t`` to ``s``) straighten to: ``(points, faces)``.
+
+    Examples
+    --------
+    >>> import heatcore as hc
+    >>> solver = hc.HeatSolver(hc.TriangleMesh(*hc.io.load_demo_mesh()))
+    >>> mesh = PathMesh.of(solver.domain)
+    >>> s, t = mesh.vertex_point(0), mesh.vertex_point(1453)
+    >>> points, faces = shortest_of_routes(mesh, candidate_routes(mesh, PathField.of(solver, s), s, t), s, t)
+    >>> len(points) == len(faces) + 1
+    True
+    """
+    best, best_length = None, np.inf
+    for route in routes:
+        points, faces = straighten(mesh, route.reversed(), s, t)
+        xyz = np.array([p.position for p in points])
+        length = float(np.linalg.norm(np.diff(xyz, axis=0), axis=1).sum())
+        if length < best_length:
+            best, best_length = (points, faces), length
+    return best
+
+
+def _route_key(route):
+    """What makes two routes the same: their faces and joints."""
+    return tuple(f for leg in route.legs for f in leg), tuple(route.joints)
+
+
+def _describe(spec):
+    """A user's point spec in words: ``vertex 3`` or ``face 7 at (0.2, 0.3, 0.5)``."""
+    if isinstance(spec, (tuple, list)) and len(spec) == 2:
+        return f"face {spec[0]} at {tuple(float(x) for x in spec[1])}"
+    return f"vertex {int(spec)}"
