@@ -10,6 +10,10 @@ the portals in order, which the funnel algorithm (Lee and Preparata 1984; the
 that bends only at portal end points, the strip's vertices, always around the
 strip's inner side. A strip may visit a face twice or wrap around a vertex:
 the layout is that of the strip, not of the surface, so overlaps do no harm.
+The layout is vectorized: each face has a layout of its own and each pair of
+neighbouring faces a plane isometry between theirs
+(:meth:`~heatcore.paths.surface.PathMesh.layouts`), and a strip's layout is
+their running composition (complex products and sums).
 
 :func:`shortest_in_strip` returns the polyline as points *on the input mesh*:
 each crossing of a portal is put on that edge of the mesh
@@ -24,7 +28,7 @@ Examples
 >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
 >>> mesh = PathMesh(hc.TriangleMesh(V, [[0, 1, 2], [1, 3, 2]], refine=0))
 >>> piece = shortest_in_strip(mesh, [0, 1], mesh.vertex_point(0), mesh.vertex_point(3))
->>> [p.position.tolist() for p in piece.points]  # the diagonal crosses the shared edge in its middle
+>>> piece.xyz.tolist()  # the diagonal crosses the shared edge in its middle
 [[0.0, 0.0, 0.0], [0.5, 0.5, 0.0], [1.0, 1.0, 0.0]]
 """
 
@@ -36,32 +40,59 @@ import numpy as np
 
 @dataclass
 class Piece:
-    """The shortest path in a strip.
+    """The shortest path in a strip, as arrays of its points.
 
     Attributes
     ----------
-    points : list of SurfacePoint
+    xyz : (k, 3) float array
         Start, portal crossings and bends, end.
-    faces : list of int
-        The face of each segment (``len(points) - 1``).
+    vertex : (k,) int array
+        The (welded) vertex each point is, or -1.
+    edge : (k, 2) int array
+        ``(a, b)`` for a point ``P[a] + t (P[b] - P[a])`` inside an edge, else -1.
+    t : (k,) float array
+    faces : (k - 1,) int array
+        The face of each segment.
     bends : list of tuple
-        ``(i, first, last)`` for each bend ``points[i]`` (a vertex): the path
+        ``(i, first, last)`` for each bend ``xyz[i]`` (a vertex): the path
         arrives in strip face ``first`` and leaves from strip face ``last``
-        (indices into the strip's faces, after trimming).
+        (indices into ``strip``).
     strip : list of int
         The strip's faces after trimming (faces before the last one holding
         the start, and after the first one holding the end, dropped).
+    start, end : SurfacePoint
 
     Examples
     --------
-    >>> Piece([], [], [], [4]).bends
-    []
+    >>> import numpy as np, heatcore as hc
+    >>> from heatcore.paths.surface import PathMesh
+    >>> mesh = PathMesh(hc.TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0))
+    >>> piece = shortest_in_strip(mesh, [0], mesh.vertex_point(0), mesh.vertex_point(1))
+    >>> piece.vertex.tolist(), piece.faces.tolist(), piece.bends
+    ([0, 1], [0], [])
     """
 
-    points: list
-    faces: list
+    xyz: np.ndarray
+    vertex: np.ndarray
+    edge: np.ndarray
+    t: np.ndarray
+    faces: np.ndarray
     bends: list
     strip: list
+    start: object
+    end: object
+
+    def split(self, mesh):
+        """The pieces between the bends (each bend ends one piece and starts the next)."""
+        if not self.bends:
+            return [self]
+        out, p0, s0, start = [], 0, 0, self.start
+        for i, first, last in self.bends + [(len(self.xyz) - 1, len(self.strip) - 1, None)]:
+            end = self.end if last is None else mesh.vertex_point(int(self.vertex[i]))
+            out.append(Piece(self.xyz[p0:i + 1], self.vertex[p0:i + 1], self.edge[p0:i + 1], self.t[p0:i + 1],
+                             self.faces[p0:i], [], self.strip[s0:first + 1], start, end))
+            p0, s0, start = i, last, end
+        return out
 
 
 def trim(mesh, faces, start, end):
@@ -92,6 +123,15 @@ def _cross(ax, ay, bx, by):
     return ax * by - ay * bx
 
 
+def _endpoint_arrays(p):
+    """``(vertex, edge, t)`` of a :class:`SurfacePoint`."""
+    if p.vertex >= 0:
+        return p.vertex, (-1, -1), 0.0
+    if p.edge is not None:
+        return -1, p.edge, p.t
+    return -1, (-1, -1), 0.0
+
+
 def shortest_in_strip(mesh, faces, start, end):
     """The shortest path from ``start`` to ``end`` inside the strip ``faces`` (a :class:`Piece`).
 
@@ -99,72 +139,61 @@ def shortest_in_strip(mesh, faces, start, end):
     ----------
     mesh : PathMesh
     faces : list of int
-        Face rows; consecutive faces share an edge. ``start`` lies in the
-        first face, ``end`` in the last.
+        Face rows; consecutive faces share a (manifold) edge. ``start`` lies
+        in the first face, ``end`` in the last.
     start, end : SurfacePoint
     """
     faces = trim(mesh, faces, start, end)
-    F, P = mesh.faces, mesh.positions
     m = len(faces) - 1
     if m == 0:
-        return Piece([start, end], [faces[0]], [], faces)
-    # Lay the first face out, then each next face across its portal.
-    c0 = F[faces[0]].tolist()
-    xy = {c0[0]: (0.0, 0.0)}
-    l01 = _length(P, c0[0], c0[1])
-    xy[c0[1]] = (l01, 0.0)
-    xy[c0[2]] = _apex(xy[c0[0]], xy[c0[1]], _length(P, c0[0], c0[2]), _length(P, c0[1], c0[2]), 1.0)
-    sx, sy = _at(xy, c0, mesh.bary_in(faces[0], start))
-    # Portals: index 0 is the start, 1..m the shared edges, m + 1 the end.
-    left, right = [(sx, sy, -1)], [(sx, sy, -1)]
-    corners = c0
-    for k in range(1, m + 1):
-        nxt = F[faces[k]].tolist()
-        shared = [v for v in corners if v in nxt]
-        if len(shared) != 2:
-            raise ValueError(f"faces {faces[k - 1]} and {faces[k]} of a strip share no edge")  # pragma: no cover
-        a, b = shared
-        old = [v for v in corners if v not in shared][0]
-        new = [v for v in nxt if v not in shared][0]
-        (ax, ay), (bx, by), (ox, oy) = xy[a], xy[b], xy[old]
-        if _cross(ax - ox, ay - oy, bx - ox, by - oy) > 0:  # old, a, b counterclockwise: a is on the right
-            right.append((ax, ay, a))
-            left.append((bx, by, b))
-        else:
-            right.append((bx, by, b))
-            left.append((ax, ay, a))
-        side = _cross(bx - ax, by - ay, ox - ax, oy - ay)
-        xy = {a: xy[a], b: xy[b]}
-        xy[new] = _apex(xy[a], xy[b], _length(P, a, new), _length(P, b, new), -1.0 if side > 0 else 1.0)
-        corners = nxt
-    ex, ey = _at(xy, corners, mesh.bary_in(faces[m], end))
-    left.append((ex, ey, -2))
-    right.append((ex, ey, -2))
-    apexes = _funnel(left, right)
-    return _assemble(mesh, faces, start, end, left, right, apexes)
+        ends = [_endpoint_arrays(start), _endpoint_arrays(end)]
+        return Piece(np.array([start.position, end.position], dtype=float), np.array([e[0] for e in ends]),
+                     np.array([e[1] for e in ends]), np.array([e[2] for e in ends]), np.array(faces[:1]), [], faces,
+                     start, end)
+    Z, a, b, right_is_a = _unfold(mesh, np.asarray(faces))
+    s2 = complex(mesh.bary_in(faces[0], start) @ Z[0])
+    e2 = complex(mesh.bary_in(faces[-1], end) @ Z[-1])
+    za, zb = Z[np.arange(m), a], Z[np.arange(m), b]
+    F = mesh.faces[faces[:-1]]
+    ida, idb = F[np.arange(m), a], F[np.arange(m), b]
+    zr, zl = np.where(right_is_a, za, zb), np.where(right_is_a, zb, za)
+    idr, idl = np.where(right_is_a, ida, idb), np.where(right_is_a, idb, ida)
+    left = [(s2.real, s2.imag, -1)] + list(zip(zl.real.tolist(), zl.imag.tolist(), idl.tolist())) + \
+        [(e2.real, e2.imag, -2)]
+    right = [(s2.real, s2.imag, -1)] + list(zip(zr.real.tolist(), zr.imag.tolist(), idr.tolist())) + \
+        [(e2.real, e2.imag, -2)]
+    return _assemble(mesh, faces, start, end, left, right, _funnel(left, right))
 
 
-def _length(P, a, b):
-    d = P[a] - P[b]
-    return math.sqrt(float(d @ d))
+def _unfold(mesh, faces):
+    """The strip's layout: its faces' corners in one plane (complex), and its portals.
 
-
-def _apex(pa, pb, la, lb, sign):
-    """The point at distances ``la`` from ``pa`` and ``lb`` from ``pb``, left of ``pa -> pb`` for sign 1."""
-    dx, dy = pb[0] - pa[0], pb[1] - pa[1]
-    d = math.hypot(dx, dy)
-    if d == 0.0:
-        return pa
-    x = (d * d + la * la - lb * lb) / (2.0 * d)
-    y = sign * math.sqrt(max(la * la - x * x, 0.0))
-    ux, uy = dx / d, dy / d
-    return (pa[0] + x * ux - y * uy, pa[1] + x * uy + y * ux)
-
-
-def _at(xy, corners, bary):
-    x = sum(float(w) * xy[c][0] for c, w in zip(corners, bary))
-    y = sum(float(w) * xy[c][1] for c, w in zip(corners, bary))
-    return x, y
+    Returns
+    -------
+    Z : (m + 1, 3) complex array
+        Corners of each face of the strip.
+    a, b : (m,) int arrays
+        The corners of face ``k`` on the portal to face ``k + 1``.
+    right_is_a : (m,) bool array
+        Whether corner ``a`` is on the right of the way through the portal.
+    """
+    local, rotation, shift, mirror = mesh.layouts()
+    prev, nxt = faces[:-1], faces[1:]
+    j = np.argmax(mesh.neighbor[prev] == nxt[:, None], axis=1)
+    if not (mesh.neighbor[prev, j] == nxt).all():
+        raise ValueError("consecutive faces of a strip share no manifold edge")  # pragma: no cover
+    r, c, q = rotation[prev, j], shift[prev, j], mirror[prev, j]
+    parity = np.r_[0, np.cumsum(q) % 2].astype(bool)  # face k's layout is mirrored
+    r = np.where(parity[:-1], np.conj(r), r)
+    c = np.where(parity[:-1], np.conj(c), c)
+    A = np.r_[1.0 + 0j, np.cumprod(r)]
+    B = np.r_[0j, np.cumsum(A[:-1] * c)]
+    z = local[faces]
+    Z = A[:, None] * np.where(parity[:, None], np.conj(z), z) + B[:, None]
+    k = np.arange(prev.size)
+    za, zb, zo = Z[k, j], Z[k, (j + 1) % 3], Z[k, (j + 2) % 3]
+    right_is_a = (np.conj(za - zo) * (zb - zo)).imag > 0  # other corner, a, b counterclockwise
+    return Z, j, (j + 1) % 3, right_is_a
 
 
 def _funnel(left, right):
@@ -229,7 +258,7 @@ def _assemble(mesh, faces, start, end, left, right, apexes):
     (the path runs along that edge) arrive and leave in a face holding it.
     """
     m = len(faces) - 1
-    stops = [[left[0][0], left[0][1], start, 0, 0]]  # x, y, point, arrival face, departure face
+    stops = [[0, -1, 0, 0]]  # portal, vertex, arrival face, departure face
     for i, side in apexes:
         ends = left if side == "L" else right
         v = ends[i][2]
@@ -238,23 +267,59 @@ def _assemble(mesh, faces, start, end, left, right, apexes):
             r0 -= 1
         while r1 < m and ends[r1 + 1][2] == v:
             r1 += 1
-        stops.append([ends[i][0], ends[i][1], mesh.vertex_point(v), r0 - 1, r1])
-    stops.append([left[m + 1][0], left[m + 1][1], end, m, m])
+        stops.append([i if side == "L" else -i, v, r0 - 1, r1])
+    stops.append([m + 1, -2, m, m])
     for a, b in zip(stops[:-1], stops[1:]):
-        if a[4] > b[3]:  # along the edge of portal b[3] + 1
-            a[4] = b[3] = b[3] + 1
-    points, seg_faces, bends = [start], [], []
+        if a[3] > b[2]:  # along the edge of portal b[2] + 1
+            a[3] = b[2] = b[2] + 1
+    # Portal crossings between consecutive stops, all at once.
+    cross_at, origin, toward = [], [], []
     for a, b in zip(stops[:-1], stops[1:]):
-        ax, ay, bx, by = a[0], a[1], b[0], b[1]
-        dx, dy = bx - ax, by - ay
-        for j in range(a[4] + 1, b[3] + 1):
-            lx, ly, lid = left[j]
-            rx, ry, rid = right[j]
-            denom = _cross(rx - lx, ry - ly, dx, dy)
-            t = _cross(ax - lx, ay - ly, dx, dy) / denom if denom != 0.0 else 0.5
-            points.append(mesh.edge_point(lid, rid, min(max(t, 0.0), 1.0)))
-        seg_faces.extend(faces[a[4]:b[3] + 1])
-        points.append(b[2])
-        if b is not stops[-1]:
-            bends.append((len(points) - 1, b[3], b[4]))
-    return Piece(points, seg_faces, bends, faces)
+        pa = left[a[0]] if a[0] >= 0 else right[-a[0]]
+        pb = left[b[0]] if b[0] >= 0 else right[-b[0]]
+        span = range(a[3] + 1, b[2] + 1)
+        cross_at.extend(span)
+        origin.extend([pa] * len(span))
+        toward.extend([pb] * len(span))
+    kinds = []  # per point: the stop's index, or -1 for a crossing
+    for n, (a, b) in enumerate(zip(stops[:-1], stops[1:])):
+        kinds.append(n)
+        kinds.extend([-1] * (b[2] - a[3]))
+    kinds.append(len(stops) - 1)
+    k = len(kinds)
+    xyz = np.empty((k, 3))
+    vertex = np.full(k, -1, dtype=np.int64)
+    edge = np.full((k, 2), -1, dtype=np.int64)
+    tt = np.zeros(k)
+    is_stop = np.array([x >= 0 for x in kinds])
+    crossing = np.flatnonzero(~is_stop)
+    if crossing.size:
+        L = np.array([left[i] for i in cross_at], dtype=float)
+        R = np.array([right[i] for i in cross_at], dtype=float)
+        O, T = np.array(origin, dtype=float)[:, :2], np.array(toward, dtype=float)[:, :2]
+        D = T - O
+        denom = (R[:, 0] - L[:, 0]) * D[:, 1] - (R[:, 1] - L[:, 1]) * D[:, 0]
+        num = (O[:, 0] - L[:, 0]) * D[:, 1] - (O[:, 1] - L[:, 1]) * D[:, 0]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            t = np.clip(np.where(denom != 0, num / denom, 0.5), 0.0, 1.0)
+        la, lb = L[:, 2].astype(np.int64), R[:, 2].astype(np.int64)
+        P = mesh.positions
+        xyz[crossing] = P[la] + t[:, None] * (P[lb] - P[la])
+        edge[crossing] = np.stack([la, lb], axis=1)
+        tt[crossing] = t
+        at_end = (t <= 0.0) | (t >= 1.0)  # through a vertex
+        vertex[crossing[at_end]] = np.where(t[at_end] <= 0.0, la[at_end], lb[at_end])
+        edge[crossing[at_end]] = -1
+    stop_rows = np.flatnonzero(is_stop)
+    for n, row in enumerate(stop_rows):
+        if 0 < n < len(stops) - 1:
+            vertex[row] = stops[n][1]
+            xyz[row] = mesh.positions[stops[n][1]]
+        else:
+            point = start if n == 0 else end
+            vertex[row], edge[row], tt[row] = _endpoint_arrays(point)
+            xyz[row] = point.position
+    strip = np.asarray(faces)
+    seg = np.concatenate([strip[a[3]:b[2] + 1] for a, b in zip(stops[:-1], stops[1:])])
+    bends = [(int(row), stops[n][2], stops[n][3]) for n, row in enumerate(stop_rows) if 0 < n < len(stops) - 1]
+    return Piece(xyz, vertex, edge, tt, seg, bends, list(faces), start, end)

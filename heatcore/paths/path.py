@@ -30,9 +30,10 @@ import numpy as np
 from ..domains.triangle import TriangleMesh
 from ..eikonal import refine_distance
 from ..errors import InvalidSourceError, UnsupportedDomainError
+from .funnel import Piece, shortest_in_strip
 from .straighten import straighten
 from .surface import PathMesh
-from .trace import Route, descend, face_gradients
+from .trace import DescentField, Route, descend
 
 
 @dataclass(frozen=True)
@@ -75,17 +76,15 @@ class GeodesicPath:
         return len(self.points)
 
     @classmethod
-    def from_surface_points(cls, mesh, points, faces):
-        """The path through :class:`~heatcore.paths.surface.SurfacePoint` ``points`` with segment faces (rows)."""
-        xyz = np.array([p.position for p in points], dtype=float).reshape(-1, 3)
-        vertices = np.array([mesh.input_vertex[p.vertex] if p.vertex >= 0 else -1 for p in points], dtype=np.int64)
-        edges = np.full((len(points), 2), -1, dtype=np.int64)
-        for i, p in enumerate(points):
-            if p.vertex < 0 and p.edge is not None:
-                edges[i] = np.sort(mesh.input_vertex[list(p.edge)])
-        rows = np.asarray(faces, dtype=np.int64)
+    def from_piece(cls, mesh, piece):
+        """The path of a :class:`~heatcore.paths.funnel.Piece` (welded vertices and face rows mapped to the input's)."""
+        xyz = np.asarray(piece.xyz, dtype=float).reshape(-1, 3)
+        vertices = np.where(piece.vertex >= 0, mesh.input_vertex[np.maximum(piece.vertex, 0)], -1)
+        inside = (piece.vertex < 0) & (piece.edge[:, 0] >= 0)
+        edges = np.full((len(xyz), 2), -1, dtype=np.int64)
+        edges[inside] = np.sort(mesh.input_vertex[piece.edge[inside]], axis=1)
         length = float(np.linalg.norm(np.diff(xyz, axis=0), axis=1).sum())
-        return cls(xyz, mesh.face_ids[rows], edges, vertices, length)
+        return cls(xyz, mesh.face_ids[np.asarray(piece.faces, dtype=np.int64)], edges, vertices, length)
 
 
 class PathField:
@@ -100,8 +99,8 @@ class PathField:
     True
     """
 
-    def __init__(self, phi, grad, key):
-        self.phi, self.grad, self.key = phi, grad, key
+    def __init__(self, descent, key):
+        self.descent, self.key = descent, key
 
     @classmethod
     def of(cls, solver, source):
@@ -119,7 +118,7 @@ class PathField:
         if solver.accuracy != "high":  # the eikonal pass: a better route for little more time
             phi = refine_distance(solver.domain, phi, pins)
         phi = phi[: mesh.positions.shape[0]]
-        field = cls(phi, face_gradients(mesh, phi), source.key())
+        field = cls(DescentField(mesh, phi), source.key())
         solver._path_field = field
         return field
 
@@ -152,10 +151,11 @@ def geodesic_path(solver, source, target):
             f"({_describe(source)}) in part {part_s}: no path on the surface joins two parts"
         )
     if s.key() == t.key() or np.array_equal(s.position, t.position):
-        return GeodesicPath.from_surface_points(mesh, [s], [])
+        piece = shortest_in_strip(mesh, [s.face], s, s)
+        return GeodesicPath.from_piece(mesh, Piece(piece.xyz[:1], piece.vertex[:1], piece.edge[:1], piece.t[:1],
+                                                   piece.faces[:0], [], [], s, s))
     field = PathField.of(solver, s)
-    points, faces = shortest_of_routes(mesh, candidate_routes(mesh, field, s, t), s, t)
-    return GeodesicPath.from_surface_points(mesh, points, faces)
+    return GeodesicPath.from_piece(mesh, shortest_of_routes(mesh, candidate_routes(mesh, field, s, t), s, t))
 
 
 def candidate_routes(mesh, field, s, t):
@@ -164,7 +164,7 @@ def candidate_routes(mesh, field, s, t):
     The descent decides on which side of every hill a route goes; where two
     sides are close in length, a descent from a neighbouring start may take
     the other one. The routes from the vertices around ``t`` start with the
-    face holding ``t`` and that vertex. Routes that are the same are given once.
+    face holding ``t`` and that vertex.
 
     Examples
     --------
@@ -176,26 +176,24 @@ def candidate_routes(mesh, field, s, t):
     >>> 1 < len(routes) <= 1 + len(mesh.faces_of(1453))
     True
     """
-    routes = [descend(mesh, field.phi, field.grad, t, s)]
+    routes = [descend(mesh, field.descent, t, s)]
     t_faces = mesh.star(t)
     if set(t_faces) & set(mesh.star(s)):  # one face holds both: the straight segment
         return routes
-    seen = {_route_key(routes[0])}
     for u in np.unique(mesh.faces[t_faces]).tolist():
         if u == t.vertex or u == s.vertex:
             continue
-        rest = descend(mesh, field.phi, field.grad, mesh.vertex_point(u), s)
+        rest = descend(mesh, field.descent, mesh.vertex_point(u), s)
         first = next(f for f in t_faces if (mesh.faces[f] == u).any())
-        route = Route([[first]] + rest.legs, [u] + rest.joints, rest.fallback)
-        key = _route_key(route)
-        if key not in seen:
-            seen.add(key)
-            routes.append(route)
+        routes.append(Route([[first]] + rest.legs, [u] + rest.joints, rest.fallback))
     return routes
 
 
 def shortest_of_routes(mesh, routes, s, t):
-    """The shortest of the geodesics the ``routes`` (from ``t`` to ``s``) straighten to: ``(points, faces)``.
+    """The shortest of the geodesics the ``routes`` (from ``t`` to ``s``) straighten to (a :class:`Piece`).
+
+    A route whose faces all touch a geodesic found before (share a vertex
+    with one of its faces) is taken to straighten to that geodesic, and skipped.
 
     Examples
     --------
@@ -203,27 +201,25 @@ def shortest_of_routes(mesh, routes, s, t):
     >>> solver = hc.HeatSolver(hc.TriangleMesh(*hc.io.load_demo_mesh()))
     >>> mesh = PathMesh.of(solver.domain)
     >>> s, t = mesh.vertex_point(0), mesh.vertex_point(1453)
-    >>> points, faces = shortest_of_routes(mesh, candidate_routes(mesh, PathField.of(solver, s), s, t), s, t)
-    >>> len(points) == len(faces) + 1
+    >>> piece = shortest_of_routes(mesh, candidate_routes(mesh, PathField.of(solver, s), s, t), s, t)
+    >>> len(piece.xyz) == len(piece.faces) + 1
     True
     """
     best, best_length = None, np.inf
+    near = set()  # faces around the geodesics found so far
     for route in routes:
-        points, faces = straighten(mesh, route.reversed(), s, t)
-        xyz = np.array([p.position for p in points])
-        length = float(np.linalg.norm(np.diff(xyz, axis=0), axis=1).sum())
+        if near.issuperset(f for leg in route.legs for f in leg):
+            continue  # a route that close to a geodesic found straightens to it
+        piece = straighten(mesh, route.reversed(), s, t)
+        near.update(mesh.vertex_faces[_ranges(mesh, np.unique(mesh.faces[piece.faces]))].tolist())
+        length = float(np.linalg.norm(np.diff(piece.xyz, axis=0), axis=1).sum())
         if length < best_length:
-            best, best_length = (points, faces), length
+            best, best_length = piece, length
     return best
 
 
-def _route_key(route):
-    """What makes two routes the same: their faces and joints."""
-    return tuple(f for leg in route.legs for f in leg), tuple(route.joints)
-
-
-def _describe(spec):
-    """A user's point spec in words: ``vertex 3`` or ``face 7 at (0.2, 0.3, 0.5)``."""
-    if isinstance(spec, (tuple, list)) and len(spec) == 2:
-        return f"face {spec[0]} at {tuple(float(x) for x in spec[1])}"
-    return f"vertex {int(spec)}"
+def _ranges(mesh, vertices):
+    """Positions in ``mesh.vertex_faces`` of the faces around ``vertices``."""
+    starts, stops = mesh.vertex_start[vertices], mesh.vertex_start[vertices + 1]
+    counts = stops - starts
+    return np.repeat(starts - np.r_[0, np.cumsum(counts)[:-1]], counts) + np.arange(counts.sum())

@@ -26,8 +26,7 @@ Examples
 >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
 >>> mesh = PathMesh(hc.TriangleMesh(V, [[0, 1, 2], [1, 3, 2]], refine=0))
 >>> route = Route([[0], [1]], [1])  # 0 -> 1 -> 3 along two edges
->>> points, faces = straighten(mesh, route, mesh.vertex_point(0), mesh.vertex_point(3))
->>> [p.position.tolist() for p in points]  # the bend at vertex 1 (pi/2 on one side) is cut
+>>> straighten(mesh, route, mesh.vertex_point(0), mesh.vertex_point(3)).xyz.tolist()  # the bend at 1 is cut
 [[0.0, 0.0, 0.0], [0.5, 0.5, 0.0], [1.0, 1.0, 0.0]]
 """
 
@@ -55,17 +54,22 @@ def straighten(mesh, route, start, end, max_rounds=None):
 
     Returns
     -------
-    points : list of SurfacePoint
-    faces : list of int
-        The face row of each segment.
+    Piece
+        The whole path (its ``bends`` and ``strip`` empty).
     """
     ends = [start] + [mesh.vertex_point(v) for v in route.joints] + [end]
     pieces = []
     for k, faces in enumerate(route.legs):
-        pieces.extend(_split(shortest_in_strip(mesh, clean(faces), ends[k], ends[k + 1])))
+        pieces.extend(shortest_in_strip(mesh, clean(faces), ends[k], ends[k + 1]).split(mesh))
     limit = max_rounds if max_rounds is not None else sum(len(leg) for leg in route.legs) + 100
+    checked = {}  # (id(a), id(b)) -> the shortcut of the bend between pieces a and b (pieces never change)
     for _ in range(limit):
-        fans = [_shortcut(mesh, a, b) for a, b in zip(pieces[:-1], pieces[1:])]
+        fans = []
+        for a, b in zip(pieces[:-1], pieces[1:]):
+            key = (id(a), id(b))
+            if key not in checked:
+                checked[key] = (_shortcut(mesh, a, b), a, b)  # the pieces kept alive: their ids stay theirs
+            fans.append(checked[key][0])
         if not any(fan is not None for fan in fans):
             break
         merged, group = [], [pieces[0]]
@@ -83,13 +87,9 @@ def straighten(mesh, route, start, end, max_rounds=None):
             if len(group) == 1:
                 pieces.append(group[0])
             else:
-                piece = shortest_in_strip(mesh, clean(strip), group[0].points[0], group[-1].points[-1])
-                pieces.extend(_split(piece))
-    points, faces = list(pieces[0].points), list(pieces[0].faces)
-    for piece in pieces[1:]:
-        points += piece.points[1:]
-        faces += piece.faces
-    return points, faces
+                piece = shortest_in_strip(mesh, clean(strip), group[0].start, group[-1].end)
+                pieces.extend(piece.split(mesh))
+    return _join(pieces)
 
 
 def clean(faces):
@@ -111,16 +111,14 @@ def clean(faces):
     return out
 
 
-def _split(piece):
-    """The pieces of ``piece`` between its bends (each bend starts a new piece)."""
-    if not piece.bends:
-        return [Piece(piece.points, piece.faces, [], piece.strip)]
-    out, p0, s0 = [], 0, 0
-    for i, first, last in piece.bends:
-        out.append(Piece(piece.points[p0:i + 1], piece.faces[p0:i], [], piece.strip[s0:first + 1]))
-        p0, s0 = i, last
-    out.append(Piece(piece.points[p0:], piece.faces[p0:], [], piece.strip[s0:]))
-    return out
+def _join(pieces):
+    """One :class:`Piece` of the pieces end to end."""
+    cut = [slice(None)] + [slice(1, None)] * (len(pieces) - 1)
+    return Piece(np.concatenate([p.xyz[c] for p, c in zip(pieces, cut)]),
+                 np.concatenate([p.vertex[c] for p, c in zip(pieces, cut)]),
+                 np.concatenate([p.edge[c] for p, c in zip(pieces, cut)]),
+                 np.concatenate([p.t[c] for p, c in zip(pieces, cut)]),
+                 np.concatenate([p.faces for p in pieces]), [], [], pieces[0].start, pieces[-1].end)
 
 
 def _shortcut(mesh, a, b):
@@ -129,20 +127,22 @@ def _shortcut(mesh, a, b):
     None when the bend has at least ``pi`` on both sides, or when the side
     below ``pi`` cannot be crossed (a boundary, a non-manifold vertex).
     """
-    v = a.points[-1].vertex
+    v = int(a.vertex[-1])
     fan = mesh.fan(v)
     if fan is None:
         return None
     faces, first, _, angles, closed = fan
     try:
-        k_in, k_out = faces.index(a.faces[-1]), faces.index(b.faces[0])
+        k_in, k_out = faces.index(int(a.faces[-1])), faces.index(int(b.faces[0]))
     except ValueError:
         return None
-    origin = mesh.positions[v]
-    cumulative = np.r_[0.0, np.cumsum(angles)]
-    total = float(cumulative[-1])
-    alpha = _coordinate(mesh, origin, first[k_in], angles[k_in], cumulative[k_in], a.points[-2].position)
-    beta = _coordinate(mesh, origin, first[k_out], angles[k_out], cumulative[k_out], b.points[1].position)
+    origin = mesh.positions[v].tolist()
+    offset = [0.0]
+    for angle in angles:
+        offset.append(offset[-1] + angle)
+    total = offset[-1]
+    alpha = _coordinate(mesh, origin, first[k_in], angles[k_in], offset[k_in], a.xyz[-2])
+    beta = _coordinate(mesh, origin, first[k_out], angles[k_out], offset[k_out], b.xyz[1])
     if closed:
         ccw = (beta - alpha) % total
         sides = [(ccw, 1), (total - ccw, -1)]
@@ -165,7 +165,8 @@ def _shortcut(mesh, a, b):
 
 def _coordinate(mesh, origin, first, angle, offset, point):
     """Angle of the direction from ``origin`` to ``point`` around the vertex, from the fan's first edge."""
-    u = mesh.positions[first] - origin
-    w = point - origin
-    theta = math.atan2(float(np.linalg.norm(np.cross(u, w))), float(u @ w))
-    return float(offset) + min(max(theta, 0.0), angle)
+    ux, uy, uz = (p - o for p, o in zip(mesh.positions[first].tolist(), origin))
+    wx, wy, wz = (p - o for p, o in zip(point.tolist(), origin))
+    cx, cy, cz = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx
+    theta = math.atan2(math.sqrt(cx * cx + cy * cy + cz * cz), ux * wx + uy * wy + uz * wz)
+    return offset + min(max(theta, 0.0), angle)

@@ -34,6 +34,7 @@ import weakref
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 
 from ..errors import InvalidSourceError
 from ..domains.sources import barycentric_array, index_list
@@ -165,9 +166,10 @@ class PathMesh:
         self.grad_bary = np.stack([-d1 - d2, d1, d2], axis=1)
         self.angles = np.stack([_angle(Q[:, (c + 1) % 3] - Q[:, c], Q[:, (c + 2) % 3] - Q[:, c]) for c in range(3)],
                                axis=1)
-        #: Step of the smooth descent in each face: half its mean edge length.
-        self.step = np.linalg.norm(Q - Q[:, [1, 2, 0]], axis=2).mean(axis=1) / 2
-        self._fans = {}
+        #: Length of edge ``j`` (from corner ``j`` to ``j + 1``) of each face.
+        self.edge_lengths = np.linalg.norm(Q[:, [1, 2, 0]] - Q, axis=2)
+        self.position_list = P.tolist()
+        self._fans, self._around, self._lists, self._graph, self._layouts = {}, {}, None, None, None
 
     @classmethod
     def of(cls, domain):
@@ -237,6 +239,75 @@ class PathMesh:
         return self.vertex_point(int(self.vertex_map[v]))
 
     # ----------------------------------------------------------------- topology
+
+    def lists(self):
+        """``faces``, ``neighbor`` and ``edge_lengths`` as Python lists (what loops over one face read fastest)."""
+        if self._lists is None:
+            self._lists = (self.faces.tolist(), self.neighbor.tolist(), self.edge_lengths.tolist())
+        return self._lists
+
+    def layouts(self):
+        """Each face laid out in the plane, and the plane isometries that glue neighbours' layouts.
+
+        Returns
+        -------
+        local : (m, 3) complex array
+            Face ``f``'s corners: corner 0 at 0, corner 1 on the positive real
+            axis, corner 2 above it.
+        rotation, shift : (m, 3) complex arrays
+        mirror : (m, 3) bool array
+            Across edge ``j`` of face ``f``, the neighbour's layout ``z`` maps
+            to ``rotation * z + shift`` (``conj(z)`` for ``z`` where
+            ``mirror``: the two faces are oriented alike) in ``f``'s layout,
+            the shared edge on itself and the neighbour on its far side.
+        """
+        if self._layouts is None:
+            F, Q = self.faces, self.positions[self.faces]
+            m = F.shape[0]
+            e1, e2 = Q[:, 1] - Q[:, 0], Q[:, 2] - Q[:, 0]
+            l01 = np.linalg.norm(e1, axis=1)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                ex = np.where(l01[:, None] > 0, e1 / np.where(l01 > 0, l01, 1.0)[:, None], [1.0, 0.0, 0.0])
+            x2 = (e2 * ex).sum(axis=1)
+            y2 = np.sqrt(np.maximum((e2 * e2).sum(axis=1) - x2 * x2, 0.0))
+            local = np.stack([np.zeros(m), l01, x2], axis=1) + 1j * np.stack([np.zeros(m), np.zeros(m), y2], axis=1)
+            rotation = np.ones((m, 3), dtype=complex)
+            shift = np.zeros((m, 3), dtype=complex)
+            mirror = np.zeros((m, 3), dtype=bool)
+            f, j = np.nonzero(self.neighbor >= 0)
+            g, k = self.neighbor[f, j], self.neighbor_edge[f, j]
+            za_f, zb_f = local[f, j], local[f, (j + 1) % 3]
+            same = F[g, k] == F[f, j]  # both faces run along the edge the same way: a mirror image
+            za_g = np.where(same, local[g, k], local[g, (k + 1) % 3])
+            zb_g = np.where(same, local[g, (k + 1) % 3], local[g, k])
+            za_g, zb_g = np.where(same, np.conj(za_g), za_g), np.where(same, np.conj(zb_g), zb_g)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                r = (zb_f - za_f) / (zb_g - za_g)
+                r = r / np.abs(r)
+            r = np.where(np.isfinite(r), r, 1.0)
+            rotation[f, j] = r
+            shift[f, j] = za_f - r * za_g
+            mirror[f, j] = same
+            self._layouts = (local, rotation, shift, mirror)
+        return self._layouts
+
+    def faces_around(self, v):
+        """Face rows around vertex ``v``, a Python list (cached)."""
+        out = self._around.get(v)
+        if out is None:
+            out = self._around[v] = self.faces_of(v).tolist()
+        return out
+
+    def edge_graph(self):
+        """Sparse matrix of edge lengths between the welded vertices (built on first use)."""
+        if self._graph is None:
+            F = self.faces
+            pairs = np.unique(np.sort(np.stack([F.ravel(), F[:, [1, 2, 0]].ravel()], axis=1), axis=1), axis=0)
+            a, b = pairs[:, 0], pairs[:, 1]
+            w = np.maximum(np.linalg.norm(self.positions[a] - self.positions[b], axis=1), 1e-300)
+            n = self.positions.shape[0]
+            self._graph = sp.csr_matrix((np.r_[w, w], (np.r_[a, b], np.r_[b, a])), shape=(n, n))
+        return self._graph
 
     def faces_of(self, v):
         """Face rows around vertex ``v``."""

@@ -30,20 +30,18 @@ Examples
 >>> from heatcore.paths.surface import PathMesh
 >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
 >>> mesh = PathMesh(hc.TriangleMesh(V, [[0, 1, 2], [1, 3, 2]], refine=0))
->>> phi = np.linalg.norm(V, axis=1)  # distance from vertex 0
->>> route = descend(mesh, phi, face_gradients(mesh, phi), mesh.vertex_point(3), mesh.vertex_point(0))
+>>> field = DescentField(mesh, np.linalg.norm(V, axis=1))  # distance from vertex 0
+>>> route = descend(mesh, field, mesh.vertex_point(3), mesh.vertex_point(0))
 >>> route.legs, route.joints
 ([[1, 0]], [])
 """
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.sparse as sp
 from scipy.sparse.csgraph import dijkstra
 
-#: Steps of the smooth descent without a new lowest value of phi before it goes on down the linear pieces.
-STALL = 50
 #: Barycentric coordinates below this are taken as 0 (the walk is on the edge or at the corner).
 SNAP = 1e-13
 
@@ -90,21 +88,61 @@ def face_gradients(mesh, phi):
     return np.einsum("fi,fik->fk", phi[mesh.faces], mesh.grad_bary)
 
 
+class DescentField:
+    """A distance field ready for descents: values, and each face's way down as barycentric rates.
+
+    Parameters
+    ----------
+    mesh : PathMesh
+    phi : (n,) float array
+        Distance at the welded vertices.
+
+    Attributes
+    ----------
+    phi : (n,) float array
+    grad : (m, 3) float array
+        :func:`face_gradients` of ``phi``.
+    rate : list of list of float
+        Per face, the rates of change of the barycentric coordinates when
+        moving along ``-grad phi`` (Python lists: the walk reads them one by one).
+    slope : list of float
+        ``|grad phi|`` per face.
+
+    Examples
+    --------
+    >>> import numpy as np, heatcore as hc
+    >>> from heatcore.paths.surface import PathMesh
+    >>> mesh = PathMesh(hc.TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0))
+    >>> [round(r, 4) for r in DescentField(mesh, np.array([0.0, 1.0, 1.0])).rate[0]]  # down towards vertex 0
+    [0.6667, -0.3333, -0.3333]
+    """
+
+    def __init__(self, mesh, phi):
+        self.phi = np.asarray(phi, dtype=float)
+        self.grad = face_gradients(mesh, self.phi)
+        self.rate = np.einsum("fik,fk->fi", mesh.grad_bary, -self.grad).tolist()
+        self.slope = np.linalg.norm(self.grad, axis=1).tolist()
+        self.values = self.phi.tolist()
+        #: Where each descent went on from each vertex it passed: ``{vertex: (legs, joints, fallback)}``.
+        self.after = {}
+
+    def remember(self, start, route):
+        """Record where ``route`` (a descent from ``start``) went on from each of its vertices."""
+        if start.vertex >= 0:
+            self.after.setdefault(start.vertex, (route.legs, route.joints, route.fallback))
+        for i, v in enumerate(route.joints):
+            self.after.setdefault(v, (route.legs[i + 1:], route.joints[i + 1:], route.fallback))
+
+
 class _Walk:
     """The state of one descent (see :func:`descend`)."""
 
-    def __init__(self, mesh, phi, grad, goal, smooth):
-        self.mesh, self.phi, self.grad, self.goal = mesh, phi, grad, goal
-        self.vertex_grad = vertex_gradients(mesh, grad) if smooth else None
+    def __init__(self, mesh, field, goal):
+        self.mesh, self.field, self.goal = mesh, field, goal
+        self.F, self.N, self.lengths = mesh.lists()
         self.goal_faces = set(mesh.star(goal))
         self.legs, self.joints = [[]], []
         self.fallback = False
-
-    def direction(self, f, b):
-        """The way down at barycentric coordinates ``b`` of face ``f`` (a 3D vector, not projected)."""
-        if self.vertex_grad is None:
-            return -self.grad[f]
-        return -(b @ self.vertex_grad[self.mesh.faces[f]])
 
     def finish_in(self, faces):
         """A face of ``faces`` holding the goal, or None."""
@@ -120,13 +158,12 @@ class _Walk:
 
     def arrive(self, v):
         """Arrived at vertex ``v``: a joint (unless it is the start); True when the goal is reached from it."""
-        mesh = self.mesh
         if self.legs[-1]:  # a vertex on the way (not the start): a joint
             if v == self.goal.vertex:
                 return True
             self.joints.append(v)
             self.legs.append([])
-        last = self.finish_in(mesh.faces_of(v).tolist())
+        last = self.finish_in(self.mesh.faces_around(v))
         if last is not None:
             self.legs[-1].append(last)
             return True
@@ -136,105 +173,89 @@ class _Walk:
         """Arrived at vertex ``v``: the next state, or None when the goal is reached."""
         if self.arrive(v):
             return None
-        mesh = self.mesh
+        known = self.field.after.get(v)
+        if known is not None:  # an earlier descent went on from here: the same way
+            legs, joints, fallback = known
+            self.legs[-1].extend(legs[0])
+            self.legs.extend(list(leg) for leg in legs[1:])
+            self.joints.extend(joints)
+            self.fallback |= fallback
+            return None
+        field, F = self.field, self.F
+        rate, slope, phi = field.rate, field.slope, field.values
         best, step = 0.0, None
-        if self.vertex_grad is not None:  # the face whose corner holds the smooth field's direction
-            w = -self.vertex_grad[v]
-            for f in mesh.faces_of(v).tolist():
-                b = (mesh.faces[f] == v).astype(float)
-                db = mesh.grad_bary[f] @ w
-                if (db[b == 1.0] < 0).all() and (db[b == 0.0] >= 0).all():
-                    speed = float(np.linalg.norm(db))
-                    if speed > best:
-                        best, step = speed, ("face", f, b, db)
-        for f in mesh.faces_of(v).tolist() if step is None else ():  # steepest way down the linear pieces
-            corners = mesh.faces[f]
-            c = int(np.flatnonzero(corners == v)[0])
-            db = mesh.grad_bary[f] @ -self.grad[f]
-            others = np.delete(db, c)
-            if db[c] < 0 and (others >= 0).all():
-                slope = float(np.linalg.norm(self.grad[f]))
-                if slope > best:
-                    best, step = slope, ("face", f, (corners == v).astype(float), db)
-            for u in corners[corners != v].tolist():
-                slope = (self.phi[v] - self.phi[u]) / np.linalg.norm(mesh.positions[u] - mesh.positions[v])
-                if slope > best:
-                    best, step = slope, ("edge", f, u)
+        for f in self.mesh.faces_around(v):  # the steepest way down: into a face, or along an edge
+            corners = F[f]
+            c = corners.index(v)
+            r = rate[f]
+            if r[c] < 0 and r[(c + 1) % 3] >= 0 and r[(c + 2) % 3] >= 0 and slope[f] > best:
+                best, step = slope[f], ("face", f, [1.0 if k == c else 0.0 for k in range(3)])
+            for k in ((c + 1) % 3, (c + 2) % 3):
+                u = corners[k]
+                edge = k if k == (c + 2) % 3 else c  # edge j runs from corner j to j + 1
+                down = (phi[v] - phi[u]) / self.lengths[f][edge] if self.lengths[f][edge] > 0 else 0.0
+                if down > best:
+                    best, step = down, ("edge", f, u)
         if step is None:
             return ("stuck", v)
+        self.add(step[1])
         if step[0] == "edge":
-            self.add(step[1])
             return ("vertex", step[2])
-        _, f, b, db = step
-        self.add(f)
-        return self.move(f, b, db)
+        return self.move(step[1], step[2])
 
     def at_point(self, f, b):
         """At the point with barycentric coordinates ``b`` in face ``f`` (inside it or on its edge)."""
-        mesh = self.mesh
-        zero = np.flatnonzero(b == 0.0)
-        if zero.size >= 2:
-            return ("vertex", int(mesh.faces[f, np.argmax(b)]))
+        zeros = [i for i in range(3) if b[i] == 0.0]
+        if len(zeros) >= 2:
+            return ("vertex", self.F[f][b.index(max(b))])
         candidates = [(f, b)]
-        if zero.size == 1:
-            c = int(zero[0])
-            j = (c + 1) % 3  # the edge opposite corner c runs from corner c + 1 to c + 2
-            g = int(mesh.neighbor[f, j])
+        if zeros:
+            j = (zeros[0] + 1) % 3  # the edge opposite corner c runs from corner c + 1 to c + 2
+            g = self.N[f][j]
             if g >= 0:
-                bg = np.zeros(3)
-                corners = mesh.faces[f]
-                for k in (j, (j + 1) % 3):
-                    bg[np.flatnonzero(mesh.faces[g] == corners[k])[0]] = b[k]
+                corners, other = self.F[f], self.F[g]
+                bg = [0.0, 0.0, 0.0]
+                bg[other.index(corners[j])] = b[j]
+                bg[other.index(corners[(j + 1) % 3])] = b[(j + 1) % 3]
                 candidates.append((g, bg))
         last = self.finish_in([h for h, _ in candidates])
         if last is not None:
             self.add(last)
             return None
+        rate, slope = self.field.rate, self.field.slope
         best, choice = -1.0, None
         for h, bh in candidates:
-            db = mesh.grad_bary[h] @ self.direction(h, bh)
-            if (db[bh == 0.0] > 0).all() and (db < 0).any():
-                speed = float(np.linalg.norm(db))
-                if speed > best:
-                    best, choice = speed, (h, bh, db)
+            r = rate[h]
+            if all(r[i] > 0 for i in range(3) if bh[i] == 0.0) and min(r) < 0 and slope[h] > best:
+                best, choice = slope[h], (h, bh)
         if choice is None:
             self.add(f)
-            if zero.size == 0:  # a flat face: down to its lowest corner
-                return ("vertex", int(mesh.faces[f][np.argmin(self.phi[mesh.faces[f]])]))
-            corners = mesh.faces[f][b > 0]  # a valley along the edge: slide to its lower end
-            return ("vertex", int(corners[np.argmin(self.phi[corners])]))
-        h, bh, db = choice
-        self.add(h)
-        return self.move(h, bh, db)
+            phi = self.field.values
+            corners = [v for v, w in zip(self.F[f], b) if w > 0 or not zeros]
+            return ("vertex", min(corners, key=lambda v: phi[v]))  # a valley along an edge, or a flat face
+        self.add(choice[0])
+        return self.move(*choice)
 
-    def move(self, f, b, db):
-        """Go straight from ``b`` along the barycentric velocity ``db``: to the boundary of face ``f``, or one step."""
-        leaving = db < 0
-        times = np.where(leaving, -b / np.where(leaving, db, -1.0), np.inf)
-        i = int(np.argmin(times))
-        if self.vertex_grad is not None:  # the smooth field turns inside a face: steps of half an edge
-            velocity = float(np.linalg.norm(db @ self.mesh.positions[self.mesh.faces[f]]))
-            step = self.mesh.step[f] / velocity if velocity > 0 else np.inf
-            if step < times[i]:
-                out = b + step * db
-                out[out < SNAP] = 0.0
-                return ("point", f, out / out.sum())
-        out = b + times[i] * db
+    def move(self, f, b):
+        """Go straight down from ``b`` to the boundary of face ``f``."""
+        r = self.field.rate[f]
+        t, i = math.inf, -1
+        for k in range(3):
+            if r[k] < 0 and -b[k] / r[k] < t:
+                t, i = -b[k] / r[k], k
+        out = [b[k] + t * r[k] for k in range(3)]
         out[i] = 0.0
-        out[out < SNAP] = 0.0
-        total = out.sum()
+        out = [x if x >= SNAP else 0.0 for x in out]
+        total = sum(out)
         if total <= 0:
-            return ("vertex", int(self.mesh.faces[f, np.argmax(b)]))
-        return ("point", f, out / total)
+            return ("vertex", self.F[f][b.index(max(b))])
+        return ("point", f, [x / total for x in out])
 
     def dijkstra(self, v):
         """The rest of the route along a shortest edge path from vertex ``v`` to the goal."""
         self.fallback = True
         mesh = self.mesh
-        graph = mesh.__dict__.get("edge_graph")
-        if graph is None:
-            graph = mesh.__dict__["edge_graph"] = edge_graph(mesh)
-        dist, pred = dijkstra(graph, indices=v, return_predecessors=True)
+        dist, pred = dijkstra(mesh.edge_graph(), indices=v, return_predecessors=True)
         targets = np.unique(mesh.faces[list(self.goal_faces)])
         end = int(targets[np.argmin(dist[targets])])
         chain = [end]
@@ -247,19 +268,17 @@ class _Walk:
                 return
             self.joints.append(b)
             self.legs.append([])
-        self.legs[-1].append(self.finish_in(mesh.faces_of(end).tolist()))
+        self.legs[-1].append(self.finish_in(mesh.faces_around(end)))
 
 
-def descend(mesh, phi, grad, start, goal, max_steps=None, smooth=False):
-    """The :class:`Route` of steepest descent on ``phi`` from ``start`` to ``goal`` (``phi``'s minimum).
+def descend(mesh, field, start, goal, max_steps=None):
+    """The :class:`Route` of steepest descent on a distance field from ``start`` to its source ``goal``.
 
     Parameters
     ----------
     mesh : PathMesh
-    phi : (n,) float array
-        Distance from ``goal`` at the welded vertices, finite on ``start``'s part.
-    grad : (m, 3) float array
-        :func:`face_gradients` of ``phi``.
+    field : DescentField
+        Distance from ``goal``, finite on ``start``'s part.
     start, goal : SurfacePoint
         Different points of one part.
     max_steps : int, optional
@@ -270,18 +289,12 @@ def descend(mesh, phi, grad, start, goal, max_steps=None, smooth=False):
     Route
         From ``start`` to ``goal``.
     """
-    walk = _Walk(mesh, phi, grad, goal, smooth)
+    walk = _Walk(mesh, field, goal)
     limit = max_steps if max_steps is not None else 4 * mesh.faces.shape[0] + 100
-    state = ("vertex", start.vertex) if start.vertex >= 0 else ("point", start.face, start.bary)
-    lowest, stall = np.inf, 0
+    state = ("vertex", start.vertex) if start.vertex >= 0 else ("point", start.face, start.bary.tolist())
     for _ in range(limit):
         if state is None:
-            return Route(walk.legs, walk.joints, walk.fallback)
-        if state[0] == "point" and walk.vertex_grad is not None:  # the smooth field may circle a sink
-            level = float(state[2] @ phi[mesh.faces[state[1]]])
-            lowest, stall = (level, 0) if level < lowest else (lowest, stall + 1)
-            if stall > STALL:
-                walk.vertex_grad = None  # on down the linear pieces, where phi decreases strictly
+            break
         if state[0] == "vertex":
             state = walk.at_vertex(state[1])
         elif state[0] == "point":
@@ -292,52 +305,10 @@ def descend(mesh, phi, grad, start, goal, max_steps=None, smooth=False):
     if state is not None:  # too many steps: from the nearest vertex on along edges
         if state[0] == "point":
             f = state[1]
-            v = int(mesh.faces[f][np.argmin(phi[mesh.faces[f]])])
-            if not walk.legs[-1] or walk.legs[-1][-1] != f:
-                walk.legs[-1].append(f)
-            state = ("vertex", v)
-        if state[0] == "vertex":
-            if not walk.arrive(state[1]):
-                walk.dijkstra(state[1])
-        else:
+            walk.add(f)
+            state = ("vertex", min(walk.F[f], key=lambda v: field.values[v]))
+        if state[0] != "vertex" or not walk.arrive(state[1]):
             walk.dijkstra(state[1])
-    return Route(walk.legs, walk.joints, walk.fallback)
-
-
-def vertex_gradients(mesh, grad):
-    """Gradient at each vertex: the mean of its faces' gradients, weighted by their corner angles.
-
-    Examples
-    --------
-    >>> import numpy as np, heatcore as hc
-    >>> from heatcore.paths.surface import PathMesh
-    >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
-    >>> mesh = PathMesh(hc.TriangleMesh(V, [[0, 1, 2], [1, 3, 2]], refine=0))
-    >>> vertex_gradients(mesh, face_gradients(mesh, V[:, 0]))[3].tolist()  # phi = x
-    [1.0, 0.0, 0.0]
-    """
-    n = mesh.positions.shape[0]
-    w = mesh.angles.ravel()
-    out = np.zeros((n, 3))
-    np.add.at(out, mesh.faces.ravel(), w[:, None] * np.repeat(grad, 3, axis=0))
-    total = np.bincount(mesh.faces.ravel(), weights=w, minlength=n)
-    return out / np.where(total > 0, total, 1.0)[:, None]
-
-
-def edge_graph(mesh):
-    """Sparse symmetric matrix of edge lengths between the welded vertices of ``mesh``.
-
-    Examples
-    --------
-    >>> import numpy as np, heatcore as hc
-    >>> from heatcore.paths.surface import PathMesh
-    >>> mesh = PathMesh(hc.TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0))
-    >>> float(edge_graph(mesh)[0, 1].round(4))
-    1.4142
-    """
-    F = mesh.faces
-    pairs = np.unique(np.sort(np.stack([F.ravel(), F[:, [1, 2, 0]].ravel()], axis=1), axis=1), axis=0)
-    a, b = pairs[:, 0], pairs[:, 1]
-    w = np.maximum(np.linalg.norm(mesh.positions[a] - mesh.positions[b], axis=1), 1e-300)
-    n = mesh.positions.shape[0]
-    return sp.csr_matrix((np.r_[w, w], (np.r_[a, b], np.r_[b, a])), shape=(n, n))
+    route = Route(walk.legs, walk.joints, walk.fallback)
+    field.remember(start, route)
+    return route
