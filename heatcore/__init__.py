@@ -23,15 +23,18 @@ from .errors import (
     InvalidOptionError,
     InvalidSourceError,
     SolverError,
+    UnsupportedDomainError,
 )
 from .contours import Isoline, isolines
 from .heat import HeatSolver
+from .paths import GeodesicPath
 from .vector_heat import VectorHeatSolver
 
 __version__ = "0.1.0"
 
 __all__ = [
     "Domain",
+    "GeodesicPath",
     "HeatSolver",
     "HeatcoreError",
     "HeatcoreWarning",
@@ -45,6 +48,7 @@ __all__ = [
     "SolverError",
     "TetMesh",
     "TriangleMesh",
+    "UnsupportedDomainError",
     "VectorHeatSolver",
     "geodesic_distance",
     "io",

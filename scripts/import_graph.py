@@ -69,7 +69,7 @@ LAYERS = [
     ("solver", [("solver", "the heat method and its steps, the eikonal pass, the vector heat method, reference distances",
                  ["heatcore.heat", "heatcore.heat.*", "heatcore.steps", "heatcore.steps.*", "heatcore.eikonal",
                   "heatcore.eikonal.*", "heatcore.vector_heat", "heatcore.vector_heat.*", "heatcore.reference",
-                  "heatcore.contours", "heatcore.voronoi"])]),
+                  "heatcore.contours", "heatcore.voronoi", "heatcore.paths", "heatcore.paths.*"])]),
     ("io | viz", [("io", "reading and writing files; raises core errors",
                    ["heatcore.io", "heatcore.io.*", "heatcore.domain_io", "heatcore.ply",
                     "heatcore.pointcloud_io", "heatcore.polygon_io", "heatcore.tet_io"]),

@@ -61,6 +61,7 @@ from .outputs import (  # noqa: F401 (check_outputs_fit, OUTPUT_SUFFIXES: part o
     write_isolines,
     write_output,
 )
+from .path_command import PATH_DESCRIPTION, PATH_HELP, path_arguments, run_path
 from .reporting import _seconds, _show_warning, _stage, _StderrHandler, _summary
 
 log = logging.getLogger("heatcore.apps.cli")
@@ -349,6 +350,11 @@ def run_batch_command(args):
     print(f"wrote {args.output_dir / SUMMARY_NAME}: {counts['ok']} done, {counts['skipped']} skipped "
           f"(already done), {counts['error']} failed")
     return 0 if counts["error"] == 0 else 1
+
+
+# --------------------------------------------------------------------------- path
+
+command("path", arguments=path_arguments, help=PATH_HELP, description=PATH_DESCRIPTION)(run_path)
 
 
 # --------------------------------------------------------------------------- main

@@ -142,6 +142,20 @@ def shortest_in_strip(mesh, faces, start, end):
         Face rows; consecutive faces share a (manifold) edge. ``start`` lies
         in the first face, ``end`` in the last.
     start, end : SurfacePoint
+
+    Returns
+    -------
+    Piece
+
+    Examples
+    --------
+    >>> import numpy as np, heatcore as hc
+    >>> from heatcore.paths.surface import PathMesh
+    >>> V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 0.4, 1]], float)
+    >>> mesh = PathMesh(hc.TriangleMesh(V, [[0, 1, 4], [1, 2, 4], [2, 3, 4]], refine=0))
+    >>> piece = shortest_in_strip(mesh, [0, 1, 2], mesh.vertex_point(0), mesh.vertex_point(3))
+    >>> piece.vertex.tolist(), piece.bends  # around the tent over the apex 4: straight in the layout
+    ([0, -1, -1, 3], [])
     """
     faces = trim(mesh, faces, start, end)
     m = len(faces) - 1

@@ -56,6 +56,17 @@ def straighten(mesh, route, start, end, max_rounds=None):
     -------
     Piece
         The whole path (its ``bends`` and ``strip`` empty).
+
+    Examples
+    --------
+    >>> import numpy as np, heatcore as hc
+    >>> from heatcore.paths.surface import PathMesh
+    >>> from heatcore.paths.trace import Route
+    >>> V = np.array([[0, 0, 0], [2, 0, 0], [2, 1, 0], [0, 1, 0], [1, 0.5, 0]], float)
+    >>> mesh = PathMesh(hc.TriangleMesh(V, [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]], refine=0))
+    >>> route = Route([[0], [2]], [4])  # from 0 to the centre 4, then on to 2: straight already
+    >>> straighten(mesh, route, mesh.vertex_point(0), mesh.vertex_point(2)).vertex.tolist()
+    [0, 4, 2]
     """
     ends = [start] + [mesh.vertex_point(v) for v in route.joints] + [end]
     pieces = []

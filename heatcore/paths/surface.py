@@ -222,6 +222,14 @@ class PathMesh:
         InvalidSourceError
             An index out of range, a vertex no face uses, a dropped face, bad coordinates.
         """
+        try:
+            return self._user_point(spec, what)
+        except InvalidSourceError as exc:
+            if str(exc).startswith(what):
+                raise
+            raise InvalidSourceError(f"{what}: {exc}") from None
+
+    def _user_point(self, spec, what):
         if isinstance(spec, (tuple, list)) and len(spec) == 2 and np.ndim(spec[1]) == 1:
             face = int(index_list([spec[0]], self.face_row.size, "face")[0])
             bary = barycentric_array([spec[1]], 1, 3)[0]

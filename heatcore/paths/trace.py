@@ -288,6 +288,17 @@ def descend(mesh, field, start, goal, max_steps=None):
     -------
     Route
         From ``start`` to ``goal``.
+
+    Examples
+    --------
+    >>> import numpy as np, heatcore as hc
+    >>> from heatcore.paths.surface import PathMesh
+    >>> V, F = hc.io.load_demo_mesh()
+    >>> mesh = PathMesh(hc.TriangleMesh(V, F, refine=0))
+    >>> field = DescentField(mesh, np.linalg.norm(V - V[0], axis=1))  # straight-line distance from vertex 0
+    >>> route = descend(mesh, field, mesh.vertex_point(1453), mesh.vertex_point(0))
+    >>> bool((mesh.faces[route.legs[-1][-1]] == 0).any())  # the last face holds vertex 0
+    True
     """
     walk = _Walk(mesh, field, goal)
     limit = max_steps if max_steps is not None else 4 * mesh.faces.shape[0] + 100
