@@ -223,3 +223,10 @@ def _ranges(mesh, vertices):
     starts, stops = mesh.vertex_start[vertices], mesh.vertex_start[vertices + 1]
     counts = stops - starts
     return np.repeat(starts - np.r_[0, np.cumsum(counts)[:-1]], counts) + np.arange(counts.sum())
+
+
+def _describe(spec):
+    """A user's point in words: ``vertex 3`` or ``face 7 at (0.2, 0.3, 0.5)``."""
+    if isinstance(spec, (tuple, list)) and len(spec) == 2:
+        return f"face {spec[0]} at ({', '.join(f'{float(b):g}' for b in spec[1])})"
+    return f"vertex {int(spec)}"
