@@ -142,17 +142,22 @@ def test_surface_points_as_source_and_target():
     assert 1 - 1e-9 <= path.length / exact <= 1 + MAX_EXCESS
 
 
-def test_field_is_computed_once_per_source(monkeypatch):
+def test_distances_are_queried_once_per_point_and_kept(monkeypatch):
     V, F = load_shared_mesh("spot")
     solver = hc.HeatSolver(hc.TriangleMesh(V, F))
     calls = []
     original = solver.distance_from_pins
-    monkeypatch.setattr(solver, "distance_from_pins", lambda pins: calls.append(1) or original(pins))
-    first = solver.geodesic_path(0, 1453)
-    again = [solver.geodesic_path(0, t) for t in (10, 2000, 1453)]
-    assert len(calls) == 1 and again[-1].length == first.length
-    solver.geodesic_path(5, 1453)
+    monkeypatch.setattr(solver, "distance_from_pins", lambda pins: calls.append(pins.vertices[0]) or original(pins))
+    first = solver.geodesic_path(0, 1453)  # from both ends: the distance from 0 and from 1453
     assert len(calls) == 2
+    assert solver.geodesic_path(0, 1453).length == first.length and len(calls) == 2
+    one_way = [solver.geodesic_path(0, t, both_ends=False) for t in (10, 2000, 1453)]
+    assert len(calls) == 2  # one query per source: the distance from 0 is kept
+    assert one_way[-1].length >= first.length - 1e-12
+    solver.geodesic_path(0, 10)
+    assert len(calls) == 3  # the distance from 10; the one from 0 is still kept
+    solver.geodesic_path(5, 10)
+    assert len(calls) == 4
 
 
 def test_same_point_gives_a_one_point_path():

@@ -87,8 +87,15 @@ class GeodesicPath:
         return cls(xyz, mesh.face_ids[np.asarray(piece.faces, dtype=np.int64)], edges, vertices, length)
 
 
+#: Distance fields a solver keeps for paths (the source's and the last target's).
+FIELDS_KEPT = 2
+
+
 class PathField:
-    """The distance from one source and its per-face gradient, kept for further targets.
+    """The distance from one point and its descent data, kept on the solver for further paths.
+
+    The solver keeps the :data:`FIELDS_KEPT` fields used last: paths from one
+    source to many targets query the source once.
 
     Examples
     --------
@@ -104,10 +111,12 @@ class PathField:
 
     @classmethod
     def of(cls, solver, source):
-        """The field of ``source`` (a :class:`SurfacePoint`) on ``solver``: the cached one, or one query."""
-        cached = getattr(solver, "_path_field", None)
-        if cached is not None and cached.key == source.key():
-            return cached
+        """The field of ``source`` (a :class:`SurfacePoint`) on ``solver``: a kept one, or one query."""
+        kept = solver.__dict__.setdefault("_path_fields", {})
+        key = source.key()
+        if key in kept:
+            kept[key] = kept.pop(key)  # the most recently used last
+            return kept[key]
         mesh = PathMesh.of(solver.domain)
         if source.vertex >= 0:
             pins = solver.domain.source_pins([int(mesh.input_vertex[source.vertex])])
@@ -118,12 +127,14 @@ class PathField:
         if solver.accuracy != "high":  # the eikonal pass: a better route for little more time
             phi = refine_distance(solver.domain, phi, pins)
         phi = phi[: mesh.positions.shape[0]]
-        field = cls(DescentField(mesh, phi), source.key())
-        solver._path_field = field
+        field = cls(DescentField(mesh, phi), key)
+        while len(kept) >= FIELDS_KEPT:
+            kept.pop(next(iter(kept)))
+        kept[key] = field
         return field
 
 
-def geodesic_path(solver, source, target):
+def geodesic_path(solver, source, target, both_ends=True):
     """The geodesic path from ``source`` to ``target`` on ``solver``'s triangle mesh.
 
     See :meth:`heatcore.HeatSolver.geodesic_path`.
@@ -154,8 +165,10 @@ def geodesic_path(solver, source, target):
         piece = shortest_in_strip(mesh, [s.face], s, s)
         return GeodesicPath.from_piece(mesh, Piece(piece.xyz[:1], piece.vertex[:1], piece.edge[:1], piece.t[:1],
                                                    piece.faces[:0], [], [], s, s))
-    field = PathField.of(solver, s)
-    return GeodesicPath.from_piece(mesh, shortest_of_routes(mesh, candidate_routes(mesh, field, s, t), s, t))
+    routes = [route.reversed() for route in candidate_routes(mesh, PathField.of(solver, s), s, t)]
+    if both_ends:  # and down the distance from the target, from around the source
+        routes += candidate_routes(mesh, PathField.of(solver, t), t, s)
+    return GeodesicPath.from_piece(mesh, shortest_of_routes(mesh, routes, s, t))
 
 
 def candidate_routes(mesh, field, s, t):
@@ -190,10 +203,9 @@ def candidate_routes(mesh, field, s, t):
 
 
 def shortest_of_routes(mesh, routes, s, t):
-    """The shortest of the geodesics the ``routes`` (from ``t`` to ``s``) straighten to (a :class:`Piece`).
+    """The shortest of the geodesics the ``routes`` (from ``s`` to ``t``) straighten to (a :class:`Piece`).
 
-    A route whose faces all touch a geodesic found before (share a vertex
-    with one of its faces) is taken to straighten to that geodesic, and skipped.
+    A route given twice (the same faces and vertices) is straightened once.
 
     Examples
     --------
@@ -201,28 +213,22 @@ def shortest_of_routes(mesh, routes, s, t):
     >>> solver = hc.HeatSolver(hc.TriangleMesh(*hc.io.load_demo_mesh()))
     >>> mesh = PathMesh.of(solver.domain)
     >>> s, t = mesh.vertex_point(0), mesh.vertex_point(1453)
-    >>> piece = shortest_of_routes(mesh, candidate_routes(mesh, PathField.of(solver, s), s, t), s, t)
+    >>> routes = [route.reversed() for route in candidate_routes(mesh, PathField.of(solver, s), s, t)]
+    >>> piece = shortest_of_routes(mesh, routes, s, t)
     >>> len(piece.xyz) == len(piece.faces) + 1
     True
     """
-    best, best_length = None, np.inf
-    near = set()  # faces around the geodesics found so far
+    best, best_length, seen = None, np.inf, set()
     for route in routes:
-        if near.issuperset(f for leg in route.legs for f in leg):
-            continue  # a route that close to a geodesic found straightens to it
-        piece = straighten(mesh, route.reversed(), s, t)
-        near.update(mesh.vertex_faces[_ranges(mesh, np.unique(mesh.faces[piece.faces]))].tolist())
+        key = tuple(f for leg in route.legs for f in leg), tuple(route.joints)
+        if key in seen:
+            continue
+        seen.add(key)
+        piece = straighten(mesh, route, s, t)
         length = float(np.linalg.norm(np.diff(piece.xyz, axis=0), axis=1).sum())
         if length < best_length:
             best, best_length = piece, length
     return best
-
-
-def _ranges(mesh, vertices):
-    """Positions in ``mesh.vertex_faces`` of the faces around ``vertices``."""
-    starts, stops = mesh.vertex_start[vertices], mesh.vertex_start[vertices + 1]
-    counts = stops - starts
-    return np.repeat(starts - np.r_[0, np.cumsum(counts)[:-1]], counts) + np.arange(counts.sum())
 
 
 def _describe(spec):

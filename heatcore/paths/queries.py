@@ -21,7 +21,7 @@ class PathQueries:
     >>> nearby = solver.geodesic_path(0, (100, [0.2, 0.3, 0.5]))  # a point inside face 100; the field of 0 is reused
     """
 
-    def geodesic_path(self, source, target):
+    def geodesic_path(self, source, target, *, both_ends=True):
         """The shortest path on the surface from ``source`` to ``target`` (triangle meshes).
 
         Parameters
@@ -30,6 +30,12 @@ class PathQueries:
             A vertex index, or a surface point ``(face, barycentric)``: a face
             index of the input mesh and three barycentric coordinates (>= 0,
             summing to 1).
+        both_ends : bool, default True
+            Also descend on the distance from ``target`` (a second query,
+            kept for the next path) and keep the shorter result. False: one
+            query per source, paths from it 5-10 times faster, and the
+            largest excess over the exact length about 0.5% instead of 0.1%
+            (docs/paths.md).
 
         Returns
         -------
@@ -57,4 +63,4 @@ class PathQueries:
         """
         from .path import geodesic_path
 
-        return geodesic_path(self, source, target)
+        return geodesic_path(self, source, target, both_ends)

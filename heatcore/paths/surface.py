@@ -168,7 +168,6 @@ class PathMesh:
                                axis=1)
         #: Length of edge ``j`` (from corner ``j`` to ``j + 1``) of each face.
         self.edge_lengths = np.linalg.norm(Q[:, [1, 2, 0]] - Q, axis=2)
-        self.position_list = P.tolist()
         self._fans, self._around, self._lists, self._graph, self._layouts = {}, {}, None, None, None
 
     @classmethod
@@ -249,9 +248,9 @@ class PathMesh:
     # ----------------------------------------------------------------- topology
 
     def lists(self):
-        """``faces``, ``neighbor`` and ``edge_lengths`` as Python lists (what loops over one face read fastest)."""
+        """``faces``, ``neighbor`` and ``edge_lengths`` as :class:`Rows` (what loops over one face read fastest)."""
         if self._lists is None:
-            self._lists = (self.faces.tolist(), self.neighbor.tolist(), self.edge_lengths.tolist())
+            self._lists = (Rows(self.faces), Rows(self.neighbor), Rows(self.edge_lengths))
         return self._lists
 
     def layouts(self):
@@ -404,6 +403,25 @@ class PathMesh:
                 return out, True
             f, w = g, x
         return out, False
+
+
+class Rows(dict):
+    """Rows of an array as Python lists, converted on first use and kept (loops read them fastest).
+
+    Examples
+    --------
+    >>> rows = Rows(np.arange(6).reshape(3, 2))
+    >>> rows[2], len(rows)
+    ([4, 5], 1)
+    """
+
+    def __init__(self, array):
+        super().__init__()
+        self.array = array
+
+    def __missing__(self, i):
+        row = self[i] = self.array[i].tolist()
+        return row
 
 
 def _angle(u, v):

@@ -42,6 +42,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.sparse.csgraph import dijkstra
 
+from .surface import Rows
+
 #: Barycentric coordinates below this are taken as 0 (the walk is on the edge or at the corner).
 SNAP = 1e-13
 
@@ -102,11 +104,13 @@ class DescentField:
     phi : (n,) float array
     grad : (m, 3) float array
         :func:`face_gradients` of ``phi``.
-    rate : list of list of float
+    rate : Rows
         Per face, the rates of change of the barycentric coordinates when
-        moving along ``-grad phi`` (Python lists: the walk reads them one by one).
-    slope : list of float
+        moving along ``-grad phi`` (lists: the walk reads them one by one).
+    slope : Rows
         ``|grad phi|`` per face.
+    values : Rows
+        ``phi`` per vertex.
 
     Examples
     --------
@@ -120,9 +124,9 @@ class DescentField:
     def __init__(self, mesh, phi):
         self.phi = np.asarray(phi, dtype=float)
         self.grad = face_gradients(mesh, self.phi)
-        self.rate = np.einsum("fik,fk->fi", mesh.grad_bary, -self.grad).tolist()
-        self.slope = np.linalg.norm(self.grad, axis=1).tolist()
-        self.values = self.phi.tolist()
+        self.rate = Rows(np.einsum("fik,fk->fi", mesh.grad_bary, -self.grad))
+        self.slope = Rows(np.linalg.norm(self.grad, axis=1))
+        self.values = Rows(self.phi)
         #: Where each descent went on from each vertex it passed: ``{vertex: (legs, joints, fallback)}``.
         self.after = {}
 
