@@ -69,9 +69,15 @@ def straighten(mesh, route, start, end, max_rounds=None):
     [0, 4, 2]
     """
     ends = [start] + [mesh.vertex_point(v) for v in route.joints] + [end]
-    pieces = []
-    for k, faces in enumerate(route.legs):
-        pieces.extend(shortest_in_strip(mesh, clean(faces), ends[k], ends[k + 1]).split(mesh))
+    pieces, strip, first = [], list(route.legs[0]), 0
+    for k, v in enumerate(route.joints):  # the legs joined through a fan at each vertex, where there is one
+        fan = _bridge(mesh, v, strip[-1], route.legs[k + 1][0])
+        if fan is None:
+            pieces.extend(shortest_in_strip(mesh, clean(strip), ends[first], ends[k + 1]).split(mesh))
+            strip, first = list(route.legs[k + 1]), k + 1
+        else:
+            strip += fan[1:-1] + list(route.legs[k + 1])
+    pieces.extend(shortest_in_strip(mesh, clean(strip), ends[first], ends[-1]).split(mesh))
     limit = max_rounds if max_rounds is not None else sum(len(leg) for leg in route.legs) + 100
     checked = {}  # (id(a), id(b)) -> the shortcut of the bend between pieces a and b (pieces never change)
     for _ in range(limit):
@@ -172,6 +178,22 @@ def _shortcut(mesh, a, b):
         if k == k_out:
             return out
     return None  # pragma: no cover - the fan holds both faces
+
+
+def _bridge(mesh, v, fa, fb):
+    """The shorter run of faces around ``v`` from face ``fa`` to face ``fb`` (both included), or None."""
+    fan = mesh.fan(v)
+    if fan is None or fa not in fan[0] or fb not in fan[0]:
+        return None
+    faces, closed = fan[0], fan[4]
+    i, j = faces.index(fa), faces.index(fb)
+    if i <= j:
+        ahead = faces[i:j + 1]
+        back = (faces[i::-1] + faces[:j - 1:-1]) if closed else None
+    else:
+        back = faces[i:j - 1 if j else None:-1]
+        ahead = (faces[i:] + faces[:j + 1]) if closed else None
+    return min((run for run in (ahead, back) if run is not None), key=len)
 
 
 def _coordinate(mesh, origin, first, angle, offset, point):

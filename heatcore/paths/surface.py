@@ -335,11 +335,11 @@ class PathMesh:
 
     def contains(self, row, p):
         """Whether face row ``row`` holds point ``p``."""
-        corners = self.faces[row]
+        corners = self.lists()[0][row]
         if p.vertex >= 0:
-            return bool((corners == p.vertex).any())
+            return p.vertex in corners
         if p.edge is not None:
-            return bool((corners == p.edge[0]).any() and (corners == p.edge[1]).any())
+            return p.edge[0] in corners and p.edge[1] in corners
         return row == p.face
 
     def bary_in(self, row, p):
