@@ -32,7 +32,7 @@ Examples
 [[0.0, 0.0, 0.0], [0.5, 0.5, 0.0], [1.0, 1.0, 0.0]]
 """
 
-import math
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -283,12 +283,12 @@ def _assemble(mesh, faces, start, end, left, right, apexes):
             r1 += 1
         stops.append([i if side == "L" else -i, v, r0 - 1, r1])
     stops.append([m + 1, -2, m, m])
-    for a, b in zip(stops[:-1], stops[1:]):
+    for a, b in itertools.pairwise(stops):
         if a[3] > b[2]:  # along the edge of portal b[2] + 1
             a[3] = b[2] = b[2] + 1
     # Portal crossings between consecutive stops, all at once.
     cross_at, origin, toward = [], [], []
-    for a, b in zip(stops[:-1], stops[1:]):
+    for a, b in itertools.pairwise(stops):
         pa = left[a[0]] if a[0] >= 0 else right[-a[0]]
         pb = left[b[0]] if b[0] >= 0 else right[-b[0]]
         span = range(a[3] + 1, b[2] + 1)
@@ -296,7 +296,7 @@ def _assemble(mesh, faces, start, end, left, right, apexes):
         origin.extend([pa] * len(span))
         toward.extend([pb] * len(span))
     kinds = []  # per point: the stop's index, or -1 for a crossing
-    for n, (a, b) in enumerate(zip(stops[:-1], stops[1:])):
+    for n, (a, b) in enumerate(itertools.pairwise(stops)):
         kinds.append(n)
         kinds.extend([-1] * (b[2] - a[3]))
     kinds.append(len(stops) - 1)
@@ -334,6 +334,6 @@ def _assemble(mesh, faces, start, end, left, right, apexes):
             vertex[row], edge[row], tt[row] = _endpoint_arrays(point)
             xyz[row] = point.position
     strip = np.asarray(faces)
-    seg = np.concatenate([strip[a[3]:b[2] + 1] for a, b in zip(stops[:-1], stops[1:])])
+    seg = np.concatenate([strip[a[3]:b[2] + 1] for a, b in itertools.pairwise(stops)])
     bends = [(int(row), stops[n][2], stops[n][3]) for n, row in enumerate(stop_rows) if 0 < n < len(stops) - 1]
     return Piece(xyz, vertex, edge, tt, seg, bends, list(faces), start, end)

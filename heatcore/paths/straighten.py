@@ -30,6 +30,7 @@ Examples
 [[0.0, 0.0, 0.0], [0.5, 0.5, 0.0], [1.0, 1.0, 0.0]]
 """
 
+import itertools
 import math
 
 import numpy as np
@@ -82,7 +83,7 @@ def straighten(mesh, route, start, end, max_rounds=None):
     checked = {}  # (id(a), id(b)) -> the shortcut of the bend between pieces a and b (pieces never change)
     for _ in range(limit):
         fans = []
-        for a, b in zip(pieces[:-1], pieces[1:]):
+        for a, b in itertools.pairwise(pieces):
             key = (id(a), id(b))
             if key not in checked:
                 checked[key] = (_shortcut(mesh, a, b), a, b)  # the pieces kept alive: their ids stay theirs

@@ -36,8 +36,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import InvalidSourceError
 from ..domains.sources import barycentric_array, index_list
+from ..errors import InvalidSourceError
 
 _MESHES = weakref.WeakKeyDictionary()
 

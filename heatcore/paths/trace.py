@@ -36,6 +36,7 @@ Examples
 ([[1, 0]], [])
 """
 
+import itertools
 import math
 from dataclasses import dataclass, field
 
@@ -266,7 +267,7 @@ class _Walk:
         while chain[-1] != v:
             chain.append(int(pred[chain[-1]]))
         chain.reverse()
-        for a, b in zip(chain[:-1], chain[1:]):
+        for a, b in itertools.pairwise(chain):
             self.legs[-1].append(mesh.edge_faces(a, b)[0])
             if b == self.goal.vertex:
                 return
