@@ -82,6 +82,13 @@ class Piece:
     start: object
     end: object
 
+    @classmethod
+    def single(cls, point):
+        """The path of one point (a :class:`~heatcore.paths.surface.SurfacePoint`): no segment."""
+        vertex, edge, t = _endpoint_arrays(point)
+        return cls(np.array([point.position], dtype=float), np.array([vertex]), np.array([edge]), np.array([t]),
+                   np.zeros(0, dtype=np.int64), [], [], point, point)
+
     def split(self, mesh):
         """The pieces between the bends (each bend ends one piece and starts the next)."""
         if not self.bends:

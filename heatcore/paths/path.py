@@ -2,16 +2,18 @@
 
 Method (docs/paths.md):
 
-1. the heat distance ``phi`` from the source (one query of the solver's
-   factorizations, kept for further targets from the same source);
-2. steepest descent on ``phi`` from the target to the source
-   (:func:`~heatcore.paths.trace.descend`): the faces the path crosses, which
-   fixes on which side of every hill and hole it goes;
-3. the shortest path inside that strip of faces, unfolded into the plane
-   (:func:`~heatcore.paths.funnel.shortest_in_strip`), with every bend that has
-   less than ``pi`` on one side cut on that side until none is left
-   (:func:`~heatcore.paths.straighten.straighten`): a geodesic, exact to
-   rounding in its homotopy class.
+1. the distance from the source, and (``both_ends``) from the target: one
+   query of the solver's factorizations each, refined by the eikonal pass
+   (:class:`PathField`, kept on the solver for further paths);
+2. routes: steepest descent on the source's distance from the target and from
+   each vertex around it, and (``both_ends``) on the target's distance from
+   the source and around it (:func:`candidate_routes`,
+   :func:`~heatcore.paths.trace.descend`); a route fixes on which side of every
+   hill and hole a path goes;
+3. each route straightened into a geodesic: strips unfolded, funnels, bends
+   with less than ``pi`` on one side cut on that side until none is left
+   (:func:`~heatcore.paths.straighten.straighten`), exact to rounding in the
+   route's homotopy class; the shortest is kept (:func:`shortest_of_routes`).
 
 Examples
 --------
@@ -30,7 +32,7 @@ import numpy as np
 from ..domains.triangle import TriangleMesh
 from ..eikonal import refine_distance
 from ..errors import InvalidSourceError, UnsupportedDomainError
-from .funnel import Piece, shortest_in_strip
+from .funnel import Piece
 from .straighten import straighten
 from .surface import PathMesh
 from .trace import DescentField, Route, descend
@@ -162,9 +164,7 @@ def geodesic_path(solver, source, target, both_ends=True):
             f"({_describe(source)}) in part {part_s}: no path on the surface joins two parts"
         )
     if s.key() == t.key() or np.array_equal(s.position, t.position):
-        piece = shortest_in_strip(mesh, [s.face], s, s)
-        return GeodesicPath.from_piece(mesh, Piece(piece.xyz[:1], piece.vertex[:1], piece.edge[:1], piece.t[:1],
-                                                   piece.faces[:0], [], [], s, s))
+        return GeodesicPath.from_piece(mesh, Piece.single(s))
     routes = [route.reversed() for route in candidate_routes(mesh, PathField.of(solver, s), s, t)]
     if both_ends:  # and down the distance from the target, from around the source
         routes += candidate_routes(mesh, PathField.of(solver, t), t, s)

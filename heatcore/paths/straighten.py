@@ -16,7 +16,10 @@ surface side): the path is then a geodesic, straight in every strip and
 bending only where no shorter path passes nearby. Each round makes the path
 strictly shorter. This is the strip form of the "wedge flip" of FlipOut
 (Sharp and Crane, "You can find geodesic paths in triangle meshes by just
-flipping edges", 2020), without changing the mesh.
+flipping edges", 2020), without changing the mesh. A route's legs are first
+joined through the shorter fan of faces around each vertex between them (where
+the vertex has one fan), so that most routes start as one strip; a side chosen
+wrongly there is a bend with less than ``pi`` on the other side, cut as above.
 
 Examples
 --------
