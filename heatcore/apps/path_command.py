@@ -40,6 +40,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InvalidMeshError
+from ..io.curves import write_obj_curves
 from .arguments import add_common_options, add_solver_options, solver_keywords
 from .inputs import _vertex_index, read_mesh_file
 from .outputs import CliError, UsageError, _same_file, atomic_output
@@ -156,6 +157,8 @@ def run_path(args):
 def write_path(target, points, header=None):
     """Write a polyline as ``.obj`` (``v`` + one ``l`` per segment), ``.ply`` (vertex + edge) or ``.csv``.
 
+    The OBJ is written as the isoline curves are (:func:`~heatcore.io.curves.write_obj_curves`).
+
     Parameters
     ----------
     target : path-like
@@ -171,6 +174,7 @@ def write_path(target, points, header=None):
     >>> tmp = tempfile.TemporaryDirectory()
     >>> write_path(Path(tmp.name) / "p.obj", np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0]], float))
     >>> print((Path(tmp.name) / "p.obj").read_text().strip())
+    # path: 3 points
     v 0 0 0
     v 1 0 0
     v 1 1 0
@@ -184,9 +188,11 @@ def write_path(target, points, header=None):
     k = len(rows)
     suffix = target.suffix.lower()
     comment = [] if header is None else [" ".join(str(header).split())]
-    if suffix == ".obj":
-        lines = [f"# {c}" for c in comment] + [f"v {r}" for r in rows] + [f"l {i} {i + 1}" for i in range(1, k)]
-    elif suffix == ".ply":
+    if suffix == ".obj":  # as the isoline curves: heatcore.io.curves
+        with atomic_output(target) as tmp:
+            write_obj_curves(tmp, [(points, False)], header=header, labels=[f"path: {k} points"])
+        return
+    if suffix == ".ply":
         lines = ["ply", "format ascii 1.0"] + [f"comment {c}" for c in comment] + [
             f"element vertex {k}", "property double x", "property double y", "property double z",
             f"element edge {max(k - 1, 0)}", "property int vertex1", "property int vertex2", "end_header",

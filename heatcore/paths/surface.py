@@ -234,8 +234,9 @@ class PathMesh:
             bary = barycentric_array([spec[1]], 1, 3)[0]
             row = int(self.face_row[face])
             if row < 0:
-                raise InvalidSourceError(f"face {face} was ignored (it has repeated vertices, after welding, "
-                                         f"or duplicates another face), so a point on it cannot be a {what}; use a vertex or another face")
+                raise InvalidSourceError(f"face {face} was ignored (it has repeated vertices, after welding, or "
+                                         f"duplicates another face), so a point on it cannot be a {what}; "
+                                         "use a vertex or another face")
             return self.point(row, bary)
         if np.ndim(spec) != 0:
             raise InvalidSourceError(f"{what} must be a vertex index or a pair (face, barycentric coordinates), "
