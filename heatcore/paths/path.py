@@ -38,7 +38,7 @@ from .surface import PathMesh
 from .trace import DescentField, Route, descend
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class GeodesicPath:
     """A path on a triangle mesh's surface: a polyline whose every segment lies in one face.
 

@@ -42,7 +42,7 @@ from ..errors import InvalidSourceError
 _MESHES = weakref.WeakKeyDictionary()
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class SurfacePoint:
     """A point on the surface, located on a vertex, inside an edge or inside a face.
 
