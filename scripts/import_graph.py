@@ -66,7 +66,7 @@ LAYERS = [
                    "heatcore.operators", "heatcore.parts", "heatcore.pointcloud", "heatcore.polygon",
                    "heatcore.polygon_shape", "heatcore.refine", "heatcore.sources", "heatcore.tet",
                    "heatcore.triangle", "heatcore.validate", "heatcore.weld"])]),
-    ("solver", [("solver", "the heat method and its steps, the eikonal pass, the vector heat method, reference distances",
+    ("solver", [("solver", "the heat method and its family: paths, isolines, vector heat",
                  ["heatcore.heat", "heatcore.heat.*", "heatcore.steps", "heatcore.steps.*", "heatcore.eikonal",
                   "heatcore.eikonal.*", "heatcore.vector_heat", "heatcore.vector_heat.*", "heatcore.reference",
                   "heatcore.contours", "heatcore.voronoi", "heatcore.paths", "heatcore.paths.*"])]),
