@@ -62,7 +62,7 @@ class GeodesicPath:
     >>> import heatcore as hc
     >>> solver = hc.HeatSolver(hc.TriangleMesh(*hc.io.load_demo_mesh()))
     >>> path = solver.geodesic_path(0, 1453)
-    >>> path.points.shape[1], path.vertices[0], path.vertices[-1], path.faces.size == len(path.points) - 1
+    >>> path.points.shape[1], int(path.vertices[0]), int(path.vertices[-1]), path.faces.size == len(path.points) - 1
     (3, 0, 1453, True)
     >>> bool(abs(path.length - solver.distance([0])[1453]) < 0.02 * path.length)  # the heat distance is close
     True
