@@ -54,6 +54,17 @@ def label(text, location, size):
     return obj
 
 
+def paint_on_one_scale(addon, objects, spacing, captions, z, size):
+    """Color ``(object, distance)`` pairs on one scale (up to the larger maximum), isolines every
+    ``spacing``, and put a caption (formatted with the object's maximum) under each; the objects."""
+    vmax = max(d.max() for _, d in objects)
+    for (obj, d), caption in zip(objects, captions):
+        rgb = colorize(d, colormap="viridis", isolines=int(round(vmax / spacing)) - 1, vmax=vmax)
+        addon.adapters.write_color_attribute(obj.data, "geodesic_distance_color", rgb)
+        label(caption.format(d.max()), (obj.location.x, 0.0, z), size)
+    return [obj for obj, _ in objects]
+
+
 def ellipsoid_scene(addon):
     """Two ico spheres scaled (1, 1, 3): Local on the left, World on the right, one color scale."""
     objects = []
@@ -66,15 +77,8 @@ def ellipsoid_scene(addon):
         top = int(np.argmax(positions(obj)[:, 2]))
         result = addon.compute_geodesic_distance(obj, sources=[top], space=space, color_attribute=None)
         objects.append((obj, result.distance))
-    # One scale for both: isolines every 0.5 scene units, colors up to the World pole-to-pole distance.
-    vmax = max(d.max() for _, d in objects)
-    for obj, d in objects:
-        rgb = colorize(d, colormap="viridis", isolines=int(round(vmax / 0.5)), vmax=vmax)
-        addon.adapters.write_color_attribute(obj.data, "geodesic_distance_color", rgb)
-    (_, local), (_, world) = objects
-    label(f"Local (old): {local.max():.2f} pole to pole", (-1.6, 0.0, -3.5), 0.28)
-    label(f"World (default): {world.max():.2f}", (1.6, 0.0, -3.5), 0.28)
-    return [obj for obj, _ in objects], (0.0, -1.0, 0.1)
+    captions = ("Local (old): {:.2f} pole to pole", "World (default): {:.2f}")
+    return paint_on_one_scale(addon, objects, 0.5, captions, -3.5, 0.28), (0.0, -1.0, 0.1)
 
 
 def shape_key_scene(addon):
@@ -102,14 +106,8 @@ def shape_key_scene(addon):
         top = int(np.argmax(V[:, 1]))  # the top of a horn
         result = addon.compute_geodesic_distance(obj, sources=[top], shape=shape, color_attribute=None)
         objects.append((obj, result.distance))
-    vmax = max(d.max() for _, d in objects)
-    for obj, d in objects:
-        rgb = colorize(d, colormap="viridis", isolines=int(round(vmax / 0.15)), vmax=vmax)
-        addon.adapters.write_color_attribute(obj.data, "geodesic_distance_color", rgb)
-    (_, basis), (_, shown) = objects
-    label(f"Mesh Data (old): farthest {basis.max():.2f}", (-1.4, 0.0, -1.45), 0.16)
-    label(f"As Displayed (default): {shown.max():.2f}", (1.4, 0.0, -1.45), 0.16)
-    return [obj for obj, _ in objects], (0.0, -1.0, 0.3)
+    captions = ("Mesh Data (old): farthest {:.2f}", "As Displayed (default): {:.2f}")
+    return paint_on_one_scale(addon, objects, 0.15, captions, -1.45, 0.16), (0.0, -1.0, 0.3)
 
 
 def render(objects, direction, path, size):
