@@ -17,6 +17,8 @@ Examples
 import argparse
 from pathlib import Path
 
+import numpy as np
+
 from .. import options
 from ..io.mesh import short
 from .inputs import _non_negative_int, _positive_float, _vertex_index
@@ -84,28 +86,60 @@ def solver_keywords(args):
     return kw
 
 
-def add_output_options(parser, png_help=None):
-    """Add ``--colormap``, ``--isolines`` and (given ``png_help``) ``--png``.
+def add_output_options(parser, png_help=None, view_default=None):
+    """Add ``--colormap``, ``--isolines``, ``--view`` and (given ``png_help``) ``--png``.
 
     Parameters
     ----------
     parser : argparse.ArgumentParser
     png_help : str, optional
         Help text of ``--png``; without it there is no ``--png``.
+    view_default : str, optional
+        What the picture's camera is without ``--view`` (for the help text); ``--view`` is added
+        when there is a picture: with ``png_help`` or ``view_default``.
 
     Examples
     --------
     >>> p = _Parser(prog="demo")
     >>> add_output_options(p, png_help="a picture")
-    >>> args = p.parse_args(["--colormap", "magma", "--png", "d.png"])
-    >>> args.colormap, args.isolines, args.png.name
-    ('magma', None, 'd.png')
+    >>> args = p.parse_args(["--colormap", "magma", "--png", "d.png", "--view=-40,20"])
+    >>> args.colormap, args.isolines, args.png.name, args.view
+    ('magma', None, 'd.png', {'azimuth': -40.0, 'elevation': 20.0})
     """
     group = parser.add_argument_group("picture and colors")
     options.add_argument(group, "colormap")
     options.add_argument(group, "isolines")
     if png_help:
         group.add_argument("--png", type=Path, default=None, metavar="PATH", help=png_help)
+    if png_help or view_default:
+        group.add_argument("--view", type=_view, default=None, metavar="AZIMUTH,ELEVATION",
+                           help="camera of the picture in degrees: azimuth about the up axis (y), elevation "
+                                f"above the horizon, -90..90 (default: {view_default or '30,15'}; a negative "
+                                "azimuth as --view=-40,15)")
+
+
+def _view(text):
+    """``AZIMUTH,ELEVATION`` in degrees to camera keywords; :class:`argparse.ArgumentTypeError` when bad.
+
+    Examples
+    --------
+    >>> _view("150, 15")
+    {'azimuth': 150.0, 'elevation': 15.0}
+    >>> _view("10,95")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: elevation must be between -90 and 90 degrees, got 95
+    """
+    parts = text.split(",")
+    try:
+        azimuth, elevation = (float(part) for part in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected AZIMUTH,ELEVATION in degrees (e.g. 30,15), got {text!r}") from None
+    if not (np.isfinite(azimuth) and np.isfinite(elevation)):
+        raise argparse.ArgumentTypeError(f"the view's angles must be finite numbers, got {text!r}")
+    if abs(elevation) > 90:
+        raise argparse.ArgumentTypeError(f"elevation must be between -90 and 90 degrees, got {elevation:g}")
+    return {"azimuth": azimuth, "elevation": elevation}
 
 
 def add_common_options(parser):
@@ -196,7 +230,7 @@ def demo_arguments(p):
     """
     p.add_argument("-d", "--output-dir", default=".", metavar="DIR",
                    help="folder for demo.ply and demo.png, created if missing (default: current folder)")
-    add_output_options(p)
+    add_output_options(p, view_default="150,15: spot's three-quarter front")
     add_solver_options(p)
     add_common_options(p)
 

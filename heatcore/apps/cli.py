@@ -203,7 +203,7 @@ def run_distance(args):
     if args.png is not None:
         with _stage("render"):
             render_png(args.png, mesh.vertices, mesh.surface, d, sources, args.colormap, args.isolines,
-                       title=args.mesh.name)
+                       title=args.mesh.name, view=args.view)
         print(f"wrote {args.png}")
     if curves is not None:
         with _stage("isolines"):
@@ -257,7 +257,7 @@ def run_demo(args):
         write_output(ply, mesh.vertices, mesh.surface, d, sources, args.colormap, args.isolines)
     with _stage("render"):
         render_png(png, mesh.vertices, mesh.surface, d, sources, args.colormap, args.isolines,
-                   title="geodesic distance from spot's nose (heat method)", view=DEMO_VIEW)
+                   title="geodesic distance from spot's nose (heat method)", view={**DEMO_VIEW, **(args.view or {})})
     t = _stage.timings
     print(f"wrote {ply}  (distance as vertex quality and colors; open it in MeshLab)")
     print(f"wrote {png}")

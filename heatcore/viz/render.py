@@ -1,16 +1,17 @@
-"""PNG pictures of a distance field on a triangle mesh, with isolines (matplotlib).
+"""PNG pictures of a distance field on a triangle mesh, with isolines.
 
-The mesh is projected orthographically, shaded (Lambert plus ambient light,
-normals averaged at the vertices), colored by distance with a perceptual
-colormap (:mod:`heatcore.viz.colormap`) and drawn back to front (painter's
-algorithm). Isolines are the curves of :func:`heatcore.isolines` on the input
-mesh (exact level sets of the piecewise-linear distance, at the levels of
-:func:`heatcore.contours.isoline_levels`), projected with the same camera and
-drawn segment by segment in the same back-to-front pass, so that nearer
-surfaces hide them.
+The mesh is projected orthographically and rasterized with a z-buffer
+(:mod:`heatcore.viz.raster`) at :data:`SUPERSAMPLE` times the output resolution:
+per pixel, the distance and the light (Lambert plus ambient, normals averaged at
+the vertices) are interpolated in the nearest face, colored with a perceptual
+colormap (:mod:`heatcore.viz.colormap`), and darkened where the pixel is within
+half a line width of an isoline level (:func:`heatcore.contours.isoline_levels`):
+the level sets of the piecewise-linear distance, the curves of
+:func:`heatcore.isolines`, drawn the same width everywhere. Nearer surfaces
+hide farther ones, their isolines and source markers.
 
-matplotlib is imported inside the functions: ``import heatcore`` never
-loads it.
+matplotlib (imported inside the functions: ``import heatcore`` never loads it)
+places the image and draws the colour bar and title.
 
 Examples
 --------
@@ -25,19 +26,26 @@ True
 >>> tmp.cleanup()
 """
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ..contours import isoline_levels
-from ..contours import isolines as isoline_curves
-from ..errors import InvalidOptionError
+from ..errors import InvalidMeshError, InvalidOptionError
 from .colormap import COLORMAPS, UNREACHABLE_COLOR, colorize
+from .raster import rasterize
 
 #: Light direction in camera coordinates (x right, y up, z towards the viewer).
 LIGHT = np.array([-0.3, 0.5, 0.8])
 AMBIENT = 0.4
 UP_AXES = {"x": 0, "y": 1, "z": 2}
-#: Meshes with fewer faces than this are midpoint-subdivided once for smoother shading.
-SMOOTH_BELOW_FACES = 40000
+#: Where the picture of the mesh goes in the figure (left, bottom, width, height; fractions).
+AXES_BOX = (0.02, 0.06, 0.80, 0.86)
+#: Pixels rendered per output pixel, in each direction (antialiasing).
+SUPERSAMPLE = 2
+#: Isolines: width in points, and color.
+LINE_WIDTH_PT = 0.9
+LINE_RGB = np.array([0.08, 0.08, 0.08])
 
 
 def camera_rotation(elevation, azimuth, up="y"):
@@ -75,33 +83,34 @@ def camera_rotation(elevation, azimuth, up="y"):
     return np.stack([right, up_cam, towards])
 
 
-def _vertex_normals(V, F):
-    fn = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])  # area-weighted
-    vn = np.zeros_like(V)
-    for c in range(3):
-        np.add.at(vn, F[:, c], fn)
+def _vertex_normals(P, F):
+    """Area-weighted vertex normals (unit, zero where undefined)."""
+    a, b = P[F[:, 1]] - P[F[:, 0]], P[F[:, 2]] - P[F[:, 0]]
+    fn = [a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1], a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2], a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]]
+    corners = F.T.ravel()  # every face's first corners, then second, then third
+    vn = np.stack([np.bincount(corners, np.tile(c, 3), minlength=len(P)) for c in fn], axis=1)
     norm = np.linalg.norm(vn, axis=1, keepdims=True)
-    return np.divide(vn, norm, out=np.zeros_like(vn), where=norm > 0), fn
+    return np.divide(vn, norm, out=np.zeros_like(vn), where=norm > 0)
 
 
-def _is_closed(F):
-    e = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
-    _, counts = np.unique(e, axis=0, return_counts=True)
-    return bool(np.all(counts == 2))
+def _closed_outward(P, F):
+    """Whether back faces can be skipped: a closed surface, consistently oriented, faces turned outwards.
 
-
-def _smooth(V, F, d):
-    """One level of midpoint subdivision, distances interpolated linearly (rendering only)."""
-    from ..domains.refine import midpoint_subdivide
-
-    sub = midpoint_subdivide(V, F, levels=1)
-    n = len(V)
-    dd = np.empty(len(sub.vertices))
-    dd[:n] = d
-    ends = sub.edges[sub.vertex_edge[n:]]
-    with np.errstate(invalid="ignore"):
-        dd[n:] = 0.5 * (d[ends[:, 0]] + d[ends[:, 1]])
-    return sub.vertices, sub.faces, dd
+    Closed and consistent means every directed edge ``(a, b)`` of a face meets its reverse ``(b, a)``
+    in another face: hashed edge keys (splitmix64) summed over the edges with ``a < b`` and over those
+    with ``a > b`` are then equal (mod 2^64), and any edge left unmatched makes them differ, except
+    with odds of about 2^-64: one pass over the edges, no sort. Outwards: a positive signed volume.
+    """
+    a, b = F.ravel(), np.roll(F, -1, axis=1).ravel()
+    x = (np.minimum(a, b) * len(P) + np.maximum(a, b)).astype(np.uint64) + np.uint64(0x9E3779B97F4A7C15)
+    x = (x ^ (x >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    x = (x ^ (x >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    x ^= x >> np.uint64(31)
+    forward = a < b
+    if x[forward].sum(dtype=np.uint64) != x[~forward].sum(dtype=np.uint64):
+        return False
+    A, B, C = P[F[:, 0]], P[F[:, 1]], P[F[:, 2]]
+    return float(np.einsum("ij,ij->", A, np.cross(B, C))) > 0
 
 
 def render_distance(
@@ -130,7 +139,7 @@ def render_distance(
     F : (m, 3) int array
     distance : (n,) float array, ``inf`` where unreachable (drawn gray)
     sources : sequence of int, optional
-        Source vertices, marked with a red dot where visible.
+        Source vertices, marked with a red dot where no nearer surface hides them.
     colormap : str
         A colormap of :mod:`heatcore.viz.colormap`.
     isolines : int
@@ -158,7 +167,6 @@ def render_distance(
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.cm import ScalarMappable
-    from matplotlib.collections import PolyCollection
     from matplotlib.colors import ListedColormap, Normalize
     from matplotlib.figure import Figure
 
@@ -166,87 +174,43 @@ def render_distance(
         raise InvalidOptionError(f"unknown colormap {colormap!r}; choose one of {sorted(COLORMAPS)}")
     if not (isinstance(isolines, (int, np.integer)) and isolines >= 0):
         raise InvalidOptionError(f"isolines must be a non-negative integer, got {isolines!r}")
-    V = np.asarray(V, dtype=float)
-    F = np.asarray(F, dtype=np.int64)
-    d = np.asarray(distance, dtype=float)
+    V = np.asarray(V, dtype=float).reshape(-1, 3)
+    F = np.asarray(F, dtype=np.int64).reshape(-1, 3)
+    d = np.asarray(distance, dtype=float).ravel()
+    if not len(V) or (F.size and (F.min() < 0 or F.max() >= len(V))):
+        raise InvalidMeshError(f"a picture needs vertices and faces that index them: {len(V)} vertices, "
+                               f"face indices {F.min() if F.size else '-'}..{F.max() if F.size else '-'}")
+    if len(d) != len(V):
+        raise InvalidOptionError(f"one distance per vertex: {len(d)} distances for {len(V)} vertices")
     finite = np.isfinite(d)
     vmax = float(d[finite].max()) if finite.any() else 1.0
     vmax = vmax if vmax > 0 else 1.0
-
-    closed = _is_closed(F)
-    R = camera_rotation(elevation, azimuth, up)
-    center = V.mean(axis=0)
     levels = isoline_levels(d, isolines)
-    curves = isoline_curves(V, F, d, levels) if levels.size else []
-    P0, F0 = (V - center) @ R.T, F  # the input mesh in camera coordinates: the curves' faces
-    if len(F) < SMOOTH_BELOW_FACES:
-        V, F, d = _smooth(V, F, d)
-    P = (V - center) @ R.T  # camera coordinates; z towards the viewer
-    vn, fn = _vertex_normals(P, F)
 
-    # Shading: Lambert with normals averaged at the vertices, then per face.
-    light = LIGHT / np.linalg.norm(LIGHT)
-    facing = fn[:, 2] > 0
-    lam = vn @ light
-    if not closed:  # open surfaces: light both sides
-        lam = np.abs(lam)
-    shade = AMBIENT + (1 - AMBIENT) * np.clip(lam, 0, 1)
-    face_shade = shade[F].mean(axis=1)
-    rgb = colorize(d, colormap, vmax=vmax)
-    face_rgb = np.clip(rgb[F].mean(axis=1) * face_shade[:, None], 0, 1)
-    keep = facing if closed else np.ones(len(F), bool)
-
-    depth = P[F, 2].mean(axis=1)
-    polys = P[F[:, [0, 1, 2, 0]]][:, :, :2]  # closed outline: the stroke covers every side
-    items_poly = list(polys[keep])
-    items_depth = list(depth[keep])
-    face_colors = list(face_rgb[keep])
-    edge_colors = list(face_rgb[keep])
-    widths = [0.5] * int(keep.sum())
-
-    if curves:
-        # Each segment of a curve lies in one input face: drawn where that face faces the viewer,
-        # lifted above the face's nearest corner so that the strokes of neighboring faces do not
-        # cover it (a nearer surface still does).
-        segs, owner = _curve_segments(curves, R, center)
-        facing0 = np.cross(P0[F0[:, 1]] - P0[F0[:, 0]], P0[F0[:, 2]] - P0[F0[:, 0]])[:, 2] > 0
-        visible = facing0[owner] if closed else np.ones(len(owner), bool)
-        segs, owner = segs[visible], owner[visible]
-        bias = 0.25 * np.linalg.norm(P[F[:, 1]] - P[F[:, 0]], axis=1).mean()
-        items_poly += list(segs[:, :, :2])
-        items_depth += list(P0[F0[owner], 2].max(axis=1) + bias)
-        line_rgb = (0.08, 0.08, 0.08)
-        face_colors += [(0, 0, 0, 0)] * len(segs)
-        edge_colors += [line_rgb] * len(segs)
-        widths += [0.9] * len(segs)
-
-    order = np.argsort(np.asarray(items_depth), kind="stable")  # far to near
+    R = camera_rotation(elevation, azimuth, up)
+    P = (V - V.mean(axis=0)) @ R.T  # camera coordinates; z towards the viewer
     fig = Figure(figsize=size, dpi=dpi)
     FigureCanvasAgg(fig)
-    ax = fig.add_axes([0.02, 0.06, 0.80, 0.86])
-    coll = PolyCollection(
-        [items_poly[i] for i in order],
-        facecolors=[face_colors[i] for i in order],
-        edgecolors=[edge_colors[i] for i in order],
-        linewidths=[widths[i] for i in order],
-        closed=False,
-        antialiased=True,
-        capstyle="round",  # consecutive segments of a curve join without notches
-        joinstyle="round",
-    )
-    ax.add_collection(coll)
+    ax = fig.add_axes(AXES_BOX)
+    box = _image_box(P, AXES_BOX[2] * size[0] * dpi, AXES_BOX[3] * size[1] * dpi)
+    Q = (P - [box.x0, box.y0, 0.0]) * box.scale  # pixels of the supersampled image
+    raster = rasterize(Q, F, box.width, box.height, cull_back=_closed_outward(P, F))
+    face = raster.face.flat[raster.pixels]
+    seen, index = np.unique(face, return_inverse=True)  # the faces in the picture, and each pixel's
+    color = _pixel_colors(Q, F, d, seen, index, raster.barycentric, colormap, vmax, levels,
+                          0.5 * LINE_WIDTH_PT / 72 * dpi * SUPERSAMPLE)
+    color *= _shading(P, F, Q, seen, index, raster.barycentric)[:, None]
+    image = np.ones((raster.face.size, 3), dtype=np.float32)
+    image[raster.pixels] = color
+    image = _downsample(image.reshape(raster.face.shape + (3,)), SUPERSAMPLE)
+    extent = (box.x0, box.x0 + box.width / box.scale, box.y0, box.y0 + box.height / box.scale)
+    ax.imshow(image, extent=extent, origin="lower", interpolation="nearest")
     if sources is not None and len(sources):
-        # Source markers: in front of everything, only where the source's faces face the viewer.
-        src = np.asarray(sources, dtype=np.int64)
-        seen = np.zeros(len(P), bool)
-        seen[F[keep].ravel()] = True
-        src = src[(src < len(P)) & seen[np.clip(src, 0, len(P) - 1)]]
+        src = _visible_sources(Q, F, raster, np.asarray(sources, dtype=np.int64))
         if src.size:
             ax.scatter(P[src, 0], P[src, 1], s=40, c="#e8141c", edgecolors="white", linewidths=1.0, zorder=5)
-    lo, hi = P[:, :2].min(axis=0), P[:, :2].max(axis=0)
-    pad = 0.04 * (hi - lo).max()
-    ax.set_xlim(lo[0] - pad, hi[0] + pad)
-    ax.set_ylim(lo[1] - pad, hi[1] + pad)
+    ax.set_xlim(extent[:2])
+    ax.set_ylim(extent[2:])
     ax.set_aspect("equal")
     ax.axis("off")
 
@@ -263,10 +227,96 @@ def render_distance(
     fig.savefig(path, dpi=dpi, facecolor="white")
 
 
-def _curve_segments(curves, R, center):
-    """The segments of :class:`~heatcore.Isoline` curves in camera coordinates ``(s, 2, 3)``, and the
-    input face each lies in."""
-    starts = [c.points if c.closed else c.points[:-1] for c in curves]
-    ends = [np.roll(c.points, -1, axis=0) if c.closed else c.points[1:] for c in curves]
-    segs = np.stack([np.concatenate(starts), np.concatenate(ends)], axis=1)
-    return (segs - center) @ R.T, np.concatenate([c.faces for c in curves])
+class _ImageBox(NamedTuple):
+    """The supersampled image's placement: pixel ``(0, 0)``'s corner at ``(x0, y0)`` in camera units,
+    ``scale`` pixels per unit."""
+
+    x0: float
+    y0: float
+    scale: float
+    width: int
+    height: int
+
+
+def _image_box(P, axes_width, axes_height):
+    """The image that fills an axes box of ``axes_width`` x ``axes_height`` output pixels with ``P``."""
+    lo, hi = P[:, :2].min(axis=0), P[:, :2].max(axis=0)
+    span = max(float((hi - lo).max()), 1e-300)
+    lo, hi = lo - 0.04 * span, hi + 0.04 * span
+    extent = np.maximum(hi - lo, 1e-3 * span)
+    scale = min(axes_width / extent[0], axes_height / extent[1])
+    width, height = np.maximum(np.ceil(extent * scale), 1).astype(int) * SUPERSAMPLE
+    return _ImageBox(float(lo[0]), float(lo[1]), scale * SUPERSAMPLE, int(width), int(height))
+
+
+def _shading(P, F, Q, seen, index, barycentric):
+    """Per covered pixel, Lambert plus ambient light: ``n . light`` from the vertex normals, interpolated
+    in the pixel's face, on the side of the face the viewer sees (flipped where the face's back shows:
+    the inside of an open surface, or a closed one turned inside out)."""
+    lam = _vertex_normals(P, F) @ (LIGHT / np.linalg.norm(LIGHT))
+    xy = Q[F[seen]][:, :, :2]
+    e1, e2 = xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 0]
+    side = np.where(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0] >= 0, 1.0, -1.0)  # +1: the front shows
+    lit = np.einsum("ij,ij->i", barycentric, lam[F[seen]][index]) * side[index]
+    return AMBIENT + (1 - AMBIENT) * np.clip(lit, 0, 1)
+
+
+def _pixel_colors(Q, F, d, seen, index, barycentric, colormap, vmax, levels, half_width):
+    """Per covered pixel, its color: the distance interpolated in its face ``seen[index]``, and isolines
+    ``half_width`` pixels either side of each level.
+
+    The distance is linear in each face, so in the image it is linear in each face's projection:
+    its gradient there gives every pixel's distance to a level curve in pixels, and the curves are
+    drawn the same width everywhere, exactly where the piecewise-linear field crosses each level.
+    """
+    dc = d[F[seen]]
+    reached = np.all(np.isfinite(dc), axis=1)
+    dc[~reached] = 0.0
+    value = np.einsum("ij,ij->i", barycentric, dc[index])
+    value[~reached[index]] = np.inf
+    color = colorize(value, colormap, vmax=vmax)
+    if levels.size:
+        slope = _image_slope(Q, F[seen], dc)[index]  # distance per pixel
+        above = np.searchsorted(levels, value)  # the levels either side: above - 1 and above
+        gap = np.minimum(np.abs(value - levels[np.maximum(above - 1, 0)]),
+                         np.abs(value - levels[np.minimum(above, len(levels) - 1)]))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            alpha = np.clip(half_width + 0.5 - gap / slope, 0.0, 1.0)
+        alpha = np.where(np.isfinite(alpha), alpha, 0.0)[:, None]
+        color = color * (1 - alpha) + LINE_RGB * alpha
+    return color
+
+
+def _image_slope(Q, F, dc):
+    """Per face, the length of the image-plane gradient of the distance ``dc`` (per corner)."""
+    xy = Q[F][:, :, :2]
+    e1, e2 = xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 0]
+    d1, d2 = dc[:, 1] - dc[:, 0], dc[:, 2] - dc[:, 0]
+    det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.hypot(d1 * e2[:, 1] - d2 * e1[:, 1], e1[:, 0] * d2 - e2[:, 0] * d1) / np.abs(det)
+
+
+def _downsample(image, factor):
+    """Average ``factor`` x ``factor`` blocks of pixels (the antialiasing of a supersampled image)."""
+    total = sum(image[i::factor, j::factor] for i in range(factor) for j in range(factor))
+    return total / factor**2
+
+
+def _visible_sources(Q, F, raster, sources):
+    """The sources no nearer surface hides: at the source's pixel or one around it, the nearest face
+    is one of the source's own, or the nearest surface there is not in front of it."""
+    height, width = raster.face.shape
+    sources = sources[(sources >= 0) & (sources < len(Q))]
+    sources = sources[np.isin(sources, F)]
+    if not sources.size:
+        return sources
+    col = np.clip(np.floor(Q[sources, 0]).astype(int), 0, width - 1)
+    row = np.clip(np.floor(Q[sources, 1]).astype(int), 0, height - 1)
+    in_front = raster.depth[row, col] > Q[sources, 2] + 2.0  # nearer by more than two pixels
+    own = np.zeros(len(sources), bool)
+    for dr in (-1, 0, 1):
+        for dc in (-1, 0, 1):
+            face = raster.face[np.clip(row + dr, 0, height - 1), np.clip(col + dc, 0, width - 1)]
+            own |= (face >= 0) & np.any(F[np.maximum(face, 0)] == sources[:, None], axis=1)
+    return sources[own | ~in_front]
