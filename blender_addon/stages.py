@@ -43,10 +43,9 @@ Progress = importlib.import_module(heatcore.__name__ + ".progress").Progress
 #: every other keyword goes to ``heatcore.HeatSolver``.
 MESH_OPTIONS = options.defaults("mesh")
 
-#: The part of a run's progress (0..1) that the solver build covers, and the domain's share of the build
-#: (about a quarter of it with the supernodal backend at 500k vertices, less with the others).
+#: The part of a run's progress (0..1) that the solver build covers (the domain's share of it is heatcore's).
 BUILD_RANGE = (0.1, 0.8)
-DOMAIN_SHARE = 0.25
+DOMAIN_SHARE = importlib.import_module(heatcore.__name__ + ".progress").DOMAIN_SHARE
 
 
 @dataclass

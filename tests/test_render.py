@@ -4,7 +4,6 @@ import numpy as np
 import pytest
 
 import heatcore as hc
-from heatcore.apps import cli
 from heatcore.viz import render
 from heatcore.viz.raster import rasterize
 
@@ -148,15 +147,6 @@ def test_picture_size_and_unreachable_gray(tmp_path):
     gray = np.round(np.asarray(hc.viz.UNREACHABLE_COLOR) * 255)
     assert (np.abs(image.astype(float) - gray).max(axis=2) < 40).sum() > 100  # the unreachable cap, shaded
     render.render_distance(tmp_path / "all.png", V, F, np.full(len(V), np.inf), size=(2, 2), dpi=30)
-
-
-def test_view_option(tmp_path, capsys):
-    V, F = ico_sphere(1)
-    mesh = tmp_path / "s.obj"
-    mesh.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in V) + "".join(f"f {a+1} {b+1} {c+1}\n" for a, b, c in F))
-    assert cli.main(["distance", str(mesh), "-s", "0", "--png", str(tmp_path / "d.png"), "--view=-40,20", "-q"]) == 0
-    assert cli.main(["distance", str(mesh), "-s", "0", "--png", str(tmp_path / "d.png"), "--view", "10,91"]) == 2
-    assert "elevation must be between -90 and 90 degrees, got 91" in capsys.readouterr().err
 
 
 def test_bad_input_is_refused_with_a_typed_error(tmp_path):

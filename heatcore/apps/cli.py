@@ -62,7 +62,7 @@ from .outputs import (  # noqa: F401 (check_outputs_fit, OUTPUT_SUFFIXES: part o
     write_output,
 )
 from .path_command import PATH_DESCRIPTION, PATH_HELP, path_arguments, run_path
-from .reporting import _seconds, _show_warning, _stage, _StderrHandler, _summary
+from .reporting import _seconds, _show_warning, _stage, _StderrHandler, _summary, build_progress
 
 log = logging.getLogger("heatcore.apps.cli")
 
@@ -89,8 +89,9 @@ def build_solver(source, args):
     from ..heat import HeatSolver
 
     kw = solver_keywords(args)
+    domain_progress, solver_progress = build_progress(len(source.vertices))
     with _stage("precompute"):
-        solver = HeatSolver(source.domain(**kw["mesh"]), **kw["solver"])
+        solver = HeatSolver(source.domain(**kw["mesh"], progress=domain_progress), **kw["solver"], progress=solver_progress)
     welded = getattr(solver.domain, "n_welded", 0)
     if welded:
         log.info("welded %s coincident vertices: %s remain", f"{welded:,}", f"{len(source.vertices) - welded:,}")

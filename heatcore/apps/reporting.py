@@ -18,6 +18,8 @@ import time
 
 import numpy as np
 
+from ..progress import DOMAIN_SHARE, Progress
+
 log = logging.getLogger("heatcore.apps.cli")
 
 
@@ -38,6 +40,36 @@ class _stage:
             seconds = time.perf_counter() - self.start
             _stage.timings[self.name] = seconds
             log.info("%s: %s", self.name, _seconds(seconds))
+
+
+#: Builds of meshes with at least this many vertices report each stage as it starts (they take seconds).
+PROGRESS_FROM_VERTICES = 100_000
+
+
+def build_progress(n_vertices):
+    """Progress callbacks for a domain's build and its solver's (:mod:`heatcore.progress`): each stage
+    logged as it starts, ``" 35% factoring the heat matrix (2.10 s)"``, for meshes of at least
+    :data:`PROGRESS_FROM_VERTICES` vertices; silent for smaller ones, whose build is quick.
+
+    Returns
+    -------
+    (Progress, Progress)
+        For the domain (the first :data:`heatcore.progress.DOMAIN_SHARE` of the whole) and the solver.
+
+    Examples
+    --------
+    >>> build_progress(5000)[0].silent
+    True
+    >>> domain_progress, solver_progress = build_progress(2_000_000)
+    >>> solver_progress(0.5, "factoring the heat matrix")  # logged on stderr by the heatcore command
+    """
+    if n_vertices < PROGRESS_FROM_VERTICES:
+        report = Progress(None)
+    else:
+        start = time.perf_counter()
+        report = Progress(lambda fraction, message: log.info(
+            "%4.0f%% %s (%s)", 100 * fraction, message, _seconds(time.perf_counter() - start)))
+    return report.part(0.0, DOMAIN_SHARE), report.part(DOMAIN_SHARE, 1.0)
 
 
 def _seconds(seconds):

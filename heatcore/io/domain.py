@@ -64,17 +64,18 @@ class DomainFile:
         """Vertices selected in the file (MeshLab PLY flags)."""
         return self.selection
 
-    def domain(self, robust=True, refine="auto", weld=0.0):
+    def domain(self, robust=True, refine="auto", weld=0.0, progress=None):
         """Build the domain; ``robust``, ``refine`` and ``weld`` apply where the domain has them.
 
         ``weld`` (a tolerance, 0 for exactly coincident vertices, None for no
         welding) is a :class:`~heatcore.TriangleMesh` option; the domain reports
-        distances at every vertex of the file either way.
+        distances at every vertex of the file either way. ``progress`` (a
+        :mod:`heatcore.progress` callback) hears a triangle mesh's build stages.
         """
         if self.kind == "triangle":
             from ..domains.triangle import TriangleMesh
 
-            return TriangleMesh(self.vertices, self.cells, robust=robust, refine=refine, weld=weld)
+            return TriangleMesh(self.vertices, self.cells, robust=robust, refine=refine, weld=weld, progress=progress)
         if self.kind == "polygon":
             from ..domains.polygon import PolygonMesh
 
