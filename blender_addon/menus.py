@@ -5,7 +5,9 @@ Edit Mode: the right-click context menu, the header's *Vertex* menu and
 context menu (mesh objects); Weight Paint: the *Weights* menu. The *Weights*
 entries run the operator with the vertex-group output on; the others have the
 interactive *Geodesic Probe* (:mod:`.probe_tool`) just above it; the Edit Mode
-context menu and the two Object Mode menus also hold *Isoline Curves* after it. Blender's menu
+context menu and the two Object Mode menus also hold *Isoline Curves* after it. The Edit Mode
+context and *Vertex* menus hold the *Geodesic UV Map* between the probe and the distance, and the
+Edit Mode *UV* menu (U) ends with it (:data:`UV_ENTRIES`). Blender's menu
 search (F3) finds every entry, by its label, in the mode where its menu is
 shown. :data:`ENTRIES` lists them; :func:`register` appends one draw function
 per menu (never twice) and :func:`unregister` removes them all.
@@ -16,6 +18,7 @@ import bpy
 from .isoline_operator import MESH_OT_heat_geodesic_isoline_curves
 from .operator import MESH_OT_heat_geodesic_distance
 from .probe_tool import MESH_OT_heat_geodesic_probe
+from .uv_operator import MESH_OT_heat_geodesic_uv_map
 
 OPERATOR = MESH_OT_heat_geodesic_distance.bl_idname
 PROBE = MESH_OT_heat_geodesic_probe.bl_idname
@@ -25,13 +28,17 @@ PROBE_ICON = "CURSOR"
 CURVES_OPERATOR = MESH_OT_heat_geodesic_isoline_curves.bl_idname
 CURVES_ICON = "OUTLINER_OB_CURVE"
 CURVE_MENUS = ("VIEW3D_MT_edit_mesh_context_menu", "VIEW3D_MT_object", "VIEW3D_MT_object_context_menu")
+#: The *Geodesic UV Map* operator, drawn before the distance entry in the Edit Mode menus that have ``uv=True``,
+#: and at the end of the Edit Mode *UV* menu (U), after Blender's own projections (:data:`UV_ENTRIES`).
+UV_OPERATOR = MESH_OT_heat_geodesic_uv_map.bl_idname
+UV_ICON = "UV"
 #: Marker attribute of our draw functions (finds entries left by an earlier copy of the module).
 MARK = "_heat_geodesic_entry"
 
 
-def _entry(menu, text, weights=False, mesh_only=False, curves=False):
+def _entry(menu, text, weights=False, mesh_only=False, curves=False, uv=False):
     """A draw function adding the operator's entry to ``menu`` (a separator, the probe unless ``weights``,
-    the entry; with ``curves``, then the *Isoline Curves* entry)."""
+    with ``uv`` the *Geodesic UV Map*, the entry; with ``curves``, then the *Isoline Curves* entry)."""
 
     def draw(self, context):
         if mesh_only:
@@ -44,6 +51,8 @@ def _entry(menu, text, weights=False, mesh_only=False, curves=False):
         layout.operator_context = "INVOKE_REGION_WIN"
         if not weights:
             layout.operator(PROBE, text="Geodesic Probe", icon=PROBE_ICON)
+        if uv:
+            layout.operator(UV_OPERATOR, text="Geodesic UV Map", icon=UV_ICON)
         props = layout.operator(OPERATOR, text=text, icon=ICON)
         if weights:
             props.write_weights = True
@@ -57,8 +66,9 @@ def _entry(menu, text, weights=False, mesh_only=False, curves=False):
 
 #: (menu class name, draw function): where the operator appears.
 ENTRIES = (
-    ("VIEW3D_MT_edit_mesh_context_menu", _entry("VIEW3D_MT_edit_mesh_context_menu", "Geodesic Distance", curves=True)),
-    ("VIEW3D_MT_edit_mesh_vertices", _entry("VIEW3D_MT_edit_mesh_vertices", "Geodesic Distance")),
+    ("VIEW3D_MT_edit_mesh_context_menu", _entry("VIEW3D_MT_edit_mesh_context_menu", "Geodesic Distance", curves=True,
+                                                                uv=True)),
+    ("VIEW3D_MT_edit_mesh_vertices", _entry("VIEW3D_MT_edit_mesh_vertices", "Geodesic Distance", uv=True)),
     ("VIEW3D_MT_select_edit_mesh", _entry("VIEW3D_MT_select_edit_mesh", "Geodesic Distance")),
     ("VIEW3D_MT_edit_mesh_weights", _entry("VIEW3D_MT_edit_mesh_weights", "Geodesic Distance Weights", weights=True)),
     ("VIEW3D_MT_object", _entry("VIEW3D_MT_object", "Geodesic Distance", mesh_only=True, curves=True)),
@@ -66,6 +76,26 @@ ENTRIES = (
      _entry("VIEW3D_MT_object_context_menu", "Geodesic Distance", mesh_only=True, curves=True)),
     ("VIEW3D_MT_paint_weight", _entry("VIEW3D_MT_paint_weight", "Geodesic Distance Weights", weights=True)),
 )
+
+
+
+
+def _uv_entry(menu):
+    """A draw function adding the *Geodesic UV Map* (invoked: the panel's options, the view's up) to ``menu``."""
+
+    def draw(self, context):
+        self.layout.separator()
+        self.layout.operator_context = "INVOKE_REGION_WIN"
+        self.layout.operator(UV_OPERATOR, text="Geodesic UV Map", icon=UV_ICON)
+
+    draw.__name__ = draw.__qualname__ = f"draw_heat_geodesic_uv_{menu}"
+    setattr(draw, MARK, menu)
+    return draw
+
+
+#: Menus that hold only the *Geodesic UV Map*: the Edit Mode *UV* menu (U), beside Smart UV Project and
+#: Project from View.
+UV_ENTRIES = (("VIEW3D_MT_uv_map", _uv_entry("VIEW3D_MT_uv_map")),)
 
 
 def ours(menu):
@@ -89,7 +119,7 @@ def register():
     >>> len(ours("VIEW3D_MT_object"))  # doctest: +SKIP
     1
     """
-    for menu, draw in ENTRIES:
+    for menu, draw in ENTRIES + UV_ENTRIES:
         cls = getattr(bpy.types, menu)
         for old in ours(menu):
             cls.remove(old)
@@ -105,7 +135,7 @@ def unregister():
     >>> ours("VIEW3D_MT_object")  # doctest: +SKIP
     []
     """
-    for menu, _ in reversed(ENTRIES):
+    for menu, _ in reversed(ENTRIES + UV_ENTRIES):
         cls = getattr(bpy.types, menu)
         for old in ours(menu):
             cls.remove(old)
