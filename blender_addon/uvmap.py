@@ -244,7 +244,10 @@ def geodesic_uv_map(obj, vertex=None, *, point=None, name=DEFAULT_UV_MAP, unit=N
         The source vertex. Default: the active vertex in Edit Mode.
     point : (triangle, barycentric), optional
         Or a point on the surface: a loop triangle of the mesh and three
-        barycentric weights (as :class:`GeodesicProbe` holds its points).
+        barycentric weights, as :class:`GeodesicProbe` holds its points
+        (``(vertex, None)``, a probe's point on a vertex, is that vertex):
+        ``geodesic_uv_map(obj, point=probe.sources[-1])`` places the map at
+        the probe's last point.
     name : str
         The UV map written. One this function made earlier is overwritten;
         any other attribute or UV map of that name is refused.
@@ -284,6 +287,8 @@ def geodesic_uv_map(obj, vertex=None, *, point=None, name=DEFAULT_UV_MAP, unit=N
     check_uv_name(obj, name)
     if unit is not None and not (np.isfinite(unit) and unit >= 0):
         raise AddonError(f"the UV unit must be a positive length (0: fit the map), got {unit}")
+    if point is not None and vertex is None and point[1] is None:  # a probe's point on a vertex
+        vertex, point = point[0], None
     if vertex is None and point is None:
         vertex = active_vertex(obj)
         if vertex is None:
