@@ -6,8 +6,7 @@ context menu (mesh objects); Weight Paint: the *Weights* menu. The *Weights*
 entries run the operator with the vertex-group output on; the others have the
 interactive *Geodesic Probe* (:mod:`.probe_tool`) just above it; the Edit Mode
 context menu and the two Object Mode menus also hold *Isoline Curves* after it. The Edit Mode
-context and *Vertex* menus hold the *Geodesic UV Map* between the probe and the distance, and the
-Edit Mode *UV* menu (U) ends with it (:data:`UV_ENTRIES`). Blender's menu
+*UV* menu (U) ends with the *Geodesic UV Map*, after Blender's own projections (:data:`UV_ENTRIES`). Blender's menu
 search (F3) finds every entry, by its label, in the mode where its menu is
 shown. :data:`ENTRIES` lists them; :func:`register` appends one draw function
 per menu (never twice) and :func:`unregister` removes them all.
@@ -28,17 +27,17 @@ PROBE_ICON = "CURSOR"
 CURVES_OPERATOR = MESH_OT_heat_geodesic_isoline_curves.bl_idname
 CURVES_ICON = "OUTLINER_OB_CURVE"
 CURVE_MENUS = ("VIEW3D_MT_edit_mesh_context_menu", "VIEW3D_MT_object", "VIEW3D_MT_object_context_menu")
-#: The *Geodesic UV Map* operator, drawn before the distance entry in the Edit Mode menus that have ``uv=True``,
-#: and at the end of the Edit Mode *UV* menu (U), after Blender's own projections (:data:`UV_ENTRIES`).
+#: The *Geodesic UV Map* operator, at the end of the Edit Mode *UV* menu (U), after Blender's own projections
+#: (:data:`UV_ENTRIES`).
 UV_OPERATOR = MESH_OT_heat_geodesic_uv_map.bl_idname
 UV_ICON = "UV"
 #: Marker attribute of our draw functions (finds entries left by an earlier copy of the module).
 MARK = "_heat_geodesic_entry"
 
 
-def _entry(menu, text, weights=False, mesh_only=False, curves=False, uv=False):
+def _entry(menu, text, weights=False, mesh_only=False, curves=False):
     """A draw function adding the operator's entry to ``menu`` (a separator, the probe unless ``weights``,
-    with ``uv`` the *Geodesic UV Map*, the entry; with ``curves``, then the *Isoline Curves* entry)."""
+    the entry; with ``curves``, then the *Isoline Curves* entry)."""
 
     def draw(self, context):
         if mesh_only:
@@ -51,8 +50,6 @@ def _entry(menu, text, weights=False, mesh_only=False, curves=False, uv=False):
         layout.operator_context = "INVOKE_REGION_WIN"
         if not weights:
             layout.operator(PROBE, text="Geodesic Probe", icon=PROBE_ICON)
-        if uv:
-            layout.operator(UV_OPERATOR, text="Geodesic UV Map", icon=UV_ICON)
         props = layout.operator(OPERATOR, text=text, icon=ICON)
         if weights:
             props.write_weights = True
@@ -66,9 +63,8 @@ def _entry(menu, text, weights=False, mesh_only=False, curves=False, uv=False):
 
 #: (menu class name, draw function): where the operator appears.
 ENTRIES = (
-    ("VIEW3D_MT_edit_mesh_context_menu", _entry("VIEW3D_MT_edit_mesh_context_menu", "Geodesic Distance", curves=True,
-                                                                uv=True)),
-    ("VIEW3D_MT_edit_mesh_vertices", _entry("VIEW3D_MT_edit_mesh_vertices", "Geodesic Distance", uv=True)),
+    ("VIEW3D_MT_edit_mesh_context_menu", _entry("VIEW3D_MT_edit_mesh_context_menu", "Geodesic Distance", curves=True)),
+    ("VIEW3D_MT_edit_mesh_vertices", _entry("VIEW3D_MT_edit_mesh_vertices", "Geodesic Distance")),
     ("VIEW3D_MT_select_edit_mesh", _entry("VIEW3D_MT_select_edit_mesh", "Geodesic Distance")),
     ("VIEW3D_MT_edit_mesh_weights", _entry("VIEW3D_MT_edit_mesh_weights", "Geodesic Distance Weights", weights=True)),
     ("VIEW3D_MT_object", _entry("VIEW3D_MT_object", "Geodesic Distance", mesh_only=True, curves=True)),

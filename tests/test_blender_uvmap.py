@@ -324,14 +324,16 @@ def test_every_uv_option_is_drawn_in_the_panel_and_documented(addon):
             assert row["Panel"] == prop.keywords["name"], row
 
 
-def test_menus_hold_the_uv_map_entry(addon):
+def test_the_uv_menu_holds_the_entry(addon):
     obj = grid(n=4)
     bpy.ops.object.mode_set(mode="EDIT")
     try:
-        for menu in ("VIEW3D_MT_uv_map", "VIEW3D_MT_edit_mesh_vertices", "VIEW3D_MT_edit_mesh_context_menu"):
-            log = draw(getattr(bpy.types, menu))
-            (entry,) = operators(log, "mesh.heat_geodesic_uv_map")
-            assert entry[2]["text"] == "Geodesic UV Map" and entry[3] == "INVOKE_REGION_WIN", menu
+        log = draw(bpy.types.VIEW3D_MT_uv_map)
+        (entry,) = operators(log, "mesh.heat_geodesic_uv_map")
+        assert entry[2]["text"] == "Geodesic UV Map" and entry[3] == "INVOKE_REGION_WIN"
+        # The distance's menus are as they were (their entries are checked in test_blender_menus.py).
+        for menu in ("VIEW3D_MT_edit_mesh_vertices", "VIEW3D_MT_edit_mesh_context_menu"):
+            assert not operators(draw(getattr(bpy.types, menu)), "mesh.heat_geodesic_uv_map"), menu
         # In the U menu after Blender's own projections.
         log = [e for e in draw(bpy.types.VIEW3D_MT_uv_map) if e[0] == "operator"]
         assert [e[1] for e in log].index("uv.project_from_view") < [e[1] for e in log].index("mesh.heat_geodesic_uv_map")
