@@ -27,7 +27,7 @@ import numpy as np
 from . import adapters
 from ._heatcore import heatcore
 from .adapters import AddonError
-from .cache import SOLVERS
+from .cache import SOLVERS, geometry_key
 from .shape import measured_positions
 from .stages import MESH_OPTIONS, options
 
@@ -168,12 +168,20 @@ def _solver(obj, V, topology, solver_options):
         raise AddonError(f"the UV map takes the options {', '.join((*MESH_OPTIONS, *VECTOR_OPTIONS))}; "
                          f"not {', '.join(unknown)}")
     mesh_options = {k: solver_options.pop(k, default) for k, default in MESH_OPTIONS.items()}
+    given = {**mesh_options, **solver_options}
 
     def build():
-        _, F = adapters.mesh_arrays(obj.data)
-        return heatcore.VectorHeatSolver(heatcore.TriangleMesh(V, F, **mesh_options), **solver_options)
+        # The distance's solver of this geometry, if cached, has the domain (and its scalar factorizations).
+        full = {**given, **{k: v for k, v in options.defaults("solver").items() if k not in given}}
+        distance = next((found for found in (SOLVERS.lookup(obj.data.session_uid, geometry_key(V, topology, o, False))
+                                             for o in (given, full)) if found is not None), None)
+        if distance is not None:
+            domain = distance.domain
+        else:
+            domain = heatcore.TriangleMesh(V, adapters.mesh_arrays(obj.data)[1], **mesh_options)
+        return heatcore.VectorHeatSolver(domain, **solver_options)
 
-    return SOLVERS.get(("uv map", obj.data.session_uid), V, topology, {**mesh_options, **solver_options}, build)
+    return SOLVERS.get(("uv map", obj.data.session_uid), V, topology, given, build)
 
 
 def _to_space(obj, vector, space):

@@ -123,6 +123,21 @@ def test_sphere_uv_radius_is_the_great_circle_distance(addon):
     assert np.abs(turn).mean() < 0.01 and np.abs(turn).max() < 0.05, (np.abs(turn).mean(), np.abs(turn).max())
 
 
+def test_the_distance_solver_domain_is_reused_and_the_solver_cached(addon):
+    obj = ico_sphere(subdivisions=3)
+    distance = addon.compute_geodesic_distance(obj, sources=[0], color_attribute=None)
+    (_, heat), = [e for k, e in addon.SOLVERS._entries.items() if k == obj.data.session_uid]
+    up = (1.0, 0.0, 0.0) if abs(obj.data.vertices[0].co.x) < 0.5 else (0.0, 0.0, 1.0)  # not along the normal
+    first = addon.geodesic_uv_map(obj, 0, up=up)
+    (_, vector), = [e for k, e in addon.SOLVERS._entries.items() if k == ("uv map", obj.data.session_uid)]
+    assert vector.domain is heat.domain and not first.cached
+    again = addon.geodesic_uv_map(obj, 0, unit=0.5, up=up)
+    assert again.cached
+    # Its radii are the distance's (the same solver, smooth accuracy).
+    np.testing.assert_allclose(np.linalg.norm(first.uv - 0.5, axis=1) * first.unit, distance.distance, rtol=1e-9,
+                               atol=1e-12)
+
+
 def test_operator_in_edit_mode_from_the_active_vertex_along_an_edge(addon):
     obj = grid(n=10)
     V = world(obj)
