@@ -265,6 +265,24 @@ def test_one_undo_step_removes_the_map(addon):
     assert "geodesic_uv" not in mesh.uv_layers and [u.name for u in mesh.uv_layers] == ["UVMap"]
 
 
+def test_edit_mode_run_is_one_undo_step(addon):
+    obj = grid(n=6)
+    bpy.ops.object.mode_set(mode="EDIT")
+    bm = bmesh.from_edit_mesh(obj.data)
+    bm.verts.ensure_lookup_table()
+    bm.select_history.add(bm.verts[10])
+    bmesh.update_edit_mesh(obj.data)
+    bpy.ops.ed.undo_push(message="before")
+    assert bpy.ops.mesh.heat_geodesic_uv_map(uv_up="VECTOR", uv_up_vector=(0, 1, 0)) == {"FINISHED"}
+    bpy.ops.ed.undo_push(message="uv map")
+    assert bpy.context.active_object.mode == "EDIT" and "geodesic_uv" in bpy.context.active_object.data.uv_layers
+    bpy.ops.ed.undo()
+    obj = bpy.context.active_object
+    assert obj.mode == "EDIT"
+    bpy.ops.object.mode_set(mode="OBJECT")
+    assert [u.name for u in obj.data.uv_layers] == ["UVMap"]
+
+
 # ---------------------------------------------------------------- findable and documented
 
 
