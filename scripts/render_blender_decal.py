@@ -23,7 +23,7 @@ Examples
 ::
 
     python scripts/render_blender_decal.py                       # docs/images/blender_decal.png
-    python scripts/render_blender_decal.py --meshes ../shared/meshes --out /tmp/decal.png
+    python scripts/render_blender_decal.py --meshes ../shared/meshes --out decal.png
 """
 
 import argparse
