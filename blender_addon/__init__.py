@@ -11,7 +11,8 @@ Modules: ``adapters`` (bpy <-> arrays), ``cache`` (prefactored solvers),
 stages: prepare, build, finish), ``outputs`` (what a run writes),
 ``background`` (the solver build in a worker thread), ``properties``,
 ``operator``, ``panel`` (the sidebar panel and its *Advanced* sub-panel),
-``isoline_operator`` (the *Isoline Curves* operator), ``menus`` (entries in the Edit Mode, Object Mode and Weight Paint menus; F3
+``isoline_operator`` (the *Isoline Curves* operator), ``uvmap`` (:func:`geodesic_uv_map`,
+the *Geodesic UV Map* for scripts) and ``uv_operator`` (its operator), ``menus`` (entries in the Edit Mode, Object Mode and Weight Paint menus; F3
 finds them), ``shape`` (which shape is measured), ``undo`` (active color
 across undo), ``material`` (the isoline material), ``legend`` (its
 legend sub-panel), and the interactive tool: ``probe`` (:class:`GeodesicProbe`,
@@ -27,18 +28,32 @@ Examples
 >>> compute_geodesic_distance(bpy.context.object, sources=[0]).max_distance   # doctest: +SKIP
 >>> from bl_ext.user_default.heat_geodesics import GeodesicProbe              # doctest: +SKIP
 >>> GeodesicProbe(bpy.context.object).move_to(0, (0.2, 0.3, 0.5))             # doctest: +SKIP
+>>> from bl_ext.user_default.heat_geodesics import geodesic_uv_map            # doctest: +SKIP
+>>> geodesic_uv_map(bpy.context.object, 0, unit=0.5).name                     # doctest: +SKIP
+'geodesic_uv'
 """
 
 import bpy
 
-from . import isoline_operator, menus, operator, panel, probe_tool, properties, undo
+from . import (
+    isoline_operator,
+    menus,
+    operator,
+    panel,
+    probe_tool,
+    properties,
+    undo,
+    uv_operator,
+)
 from .adapters import AddonError
 from .api import GeodesicResult, compute_geodesic_distance
 from .background import BackgroundBuild
 from .cache import SOLVERS
 from .probe import GeodesicProbe
+from .uvmap import UVMapResult, geodesic_uv_map
 
-__all__ = ["compute_geodesic_distance", "GeodesicResult", "GeodesicProbe", "AddonError", "register", "unregister"]
+__all__ = ["compute_geodesic_distance", "GeodesicResult", "GeodesicProbe", "geodesic_uv_map", "UVMapResult", "AddonError",
+           "register", "unregister"]
 
 
 def register():
@@ -47,6 +62,7 @@ def register():
     bpy.utils.register_class(operator.MESH_OT_heat_geodesic_distance)
     probe_tool.register()
     bpy.utils.register_class(isoline_operator.MESH_OT_heat_geodesic_isoline_curves)
+    bpy.utils.register_class(uv_operator.MESH_OT_heat_geodesic_uv_map)
     panel.register()
     undo.register()
     menus.register()
@@ -58,6 +74,7 @@ def unregister():
     undo.unregister()
     panel.unregister()
     probe_tool.unregister()
+    bpy.utils.unregister_class(uv_operator.MESH_OT_heat_geodesic_uv_map)
     bpy.utils.unregister_class(isoline_operator.MESH_OT_heat_geodesic_isoline_curves)
     bpy.utils.unregister_class(operator.MESH_OT_heat_geodesic_distance)
     properties.unregister()

@@ -5,7 +5,8 @@ Edit Mode: the right-click context menu, the header's *Vertex* menu and
 context menu (mesh objects); Weight Paint: the *Weights* menu. The *Weights*
 entries run the operator with the vertex-group output on; the others have the
 interactive *Geodesic Probe* (:mod:`.probe_tool`) just above it; the Edit Mode
-context menu and the two Object Mode menus also hold *Isoline Curves* after it. Blender's menu
+context menu and the two Object Mode menus also hold *Isoline Curves* after it. The Edit Mode
+*UV* menu (U) ends with the *Geodesic UV Map*, after Blender's own projections (:data:`UV_ENTRIES`). Blender's menu
 search (F3) finds every entry, by its label, in the mode where its menu is
 shown. :data:`ENTRIES` lists them; :func:`register` appends one draw function
 per menu (never twice) and :func:`unregister` removes them all.
@@ -16,6 +17,7 @@ import bpy
 from .isoline_operator import MESH_OT_heat_geodesic_isoline_curves
 from .operator import MESH_OT_heat_geodesic_distance
 from .probe_tool import MESH_OT_heat_geodesic_probe
+from .uv_operator import MESH_OT_heat_geodesic_uv_map
 
 OPERATOR = MESH_OT_heat_geodesic_distance.bl_idname
 PROBE = MESH_OT_heat_geodesic_probe.bl_idname
@@ -25,6 +27,10 @@ PROBE_ICON = "CURSOR"
 CURVES_OPERATOR = MESH_OT_heat_geodesic_isoline_curves.bl_idname
 CURVES_ICON = "OUTLINER_OB_CURVE"
 CURVE_MENUS = ("VIEW3D_MT_edit_mesh_context_menu", "VIEW3D_MT_object", "VIEW3D_MT_object_context_menu")
+#: The *Geodesic UV Map* operator, at the end of the Edit Mode *UV* menu (U), after Blender's own projections
+#: (:data:`UV_ENTRIES`).
+UV_OPERATOR = MESH_OT_heat_geodesic_uv_map.bl_idname
+UV_ICON = "UV"
 #: Marker attribute of our draw functions (finds entries left by an earlier copy of the module).
 MARK = "_heat_geodesic_entry"
 
@@ -68,6 +74,26 @@ ENTRIES = (
 )
 
 
+
+
+def _uv_entry(menu):
+    """A draw function adding the *Geodesic UV Map* (invoked: the panel's options, the view's up) to ``menu``."""
+
+    def draw(self, context):
+        self.layout.separator()
+        self.layout.operator_context = "INVOKE_REGION_WIN"
+        self.layout.operator(UV_OPERATOR, text="Geodesic UV Map", icon=UV_ICON)
+
+    draw.__name__ = draw.__qualname__ = f"draw_heat_geodesic_uv_{menu}"
+    setattr(draw, MARK, menu)
+    return draw
+
+
+#: Menus that hold only the *Geodesic UV Map*: the Edit Mode *UV* menu (U), beside Smart UV Project and
+#: Project from View.
+UV_ENTRIES = (("VIEW3D_MT_uv_map", _uv_entry("VIEW3D_MT_uv_map")),)
+
+
 def ours(menu):
     """The draw functions of this add-on in ``bpy.types.<menu>`` (none when unregistered).
 
@@ -89,7 +115,7 @@ def register():
     >>> len(ours("VIEW3D_MT_object"))  # doctest: +SKIP
     1
     """
-    for menu, draw in ENTRIES:
+    for menu, draw in ENTRIES + UV_ENTRIES:
         cls = getattr(bpy.types, menu)
         for old in ours(menu):
             cls.remove(old)
@@ -105,7 +131,7 @@ def unregister():
     >>> ours("VIEW3D_MT_object")  # doctest: +SKIP
     []
     """
-    for menu, _ in reversed(ENTRIES):
+    for menu, _ in reversed(ENTRIES + UV_ENTRIES):
         cls = getattr(bpy.types, menu)
         for old in ours(menu):
             cls.remove(old)

@@ -103,7 +103,35 @@ class VIEW3D_PT_heat_geodesic_advanced(bpy.types.Panel):
             col.prop(settings, name)
 
 
-CLASSES = (VIEW3D_PT_heat_geodesic, VIEW3D_PT_heat_geodesic_legend, VIEW3D_PT_heat_geodesic_advanced)
+class VIEW3D_PT_heat_geodesic_uv_map(bpy.types.Panel):
+    """The *Geodesic UV Map* button and its options (it measures with the distance's Space, Shape and solver)."""
+
+    bl_label = "UV Map"
+    bl_idname = "VIEW3D_PT_heat_geodesic_uv_map"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "Geodesic"
+    bl_parent_id = VIEW3D_PT_heat_geodesic.bl_idname
+    bl_options = {"DEFAULT_CLOSED"}
+
+    #: The settings shown here, in order (``properties.UVMapOptions``).
+    PROPERTIES = ("uv_map", "uv_unit", "uv_up", "uv_up_vector")
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        settings = context.scene.heat_geodesic
+        layout.operator("mesh.heat_geodesic_uv_map", icon="UV")
+        col = layout.column()
+        for name in self.PROPERTIES:
+            row = col.row()
+            row.enabled = name != "uv_up_vector" or settings.uv_up != "EDGE"
+            row.prop(settings, name)
+
+
+CLASSES = (VIEW3D_PT_heat_geodesic, VIEW3D_PT_heat_geodesic_legend, VIEW3D_PT_heat_geodesic_advanced,
+           VIEW3D_PT_heat_geodesic_uv_map)
 
 
 def register():

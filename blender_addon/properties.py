@@ -14,9 +14,23 @@ here.
 """
 
 import bpy
-from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
+from bpy.props import (
+    BoolProperty,
+    EnumProperty,
+    FloatProperty,
+    FloatVectorProperty,
+    IntProperty,
+    PointerProperty,
+    StringProperty,
+)
 
-from .api import DEFAULT_ATTRIBUTE, DEFAULT_COLOR_ATTRIBUTE, DEFAULT_WEIGHT_GROUP, options
+from .api import (
+    DEFAULT_ATTRIBUTE,
+    DEFAULT_COLOR_ATTRIBUTE,
+    DEFAULT_WEIGHT_GROUP,
+    options,
+)
+from .uvmap import DEFAULT_UV_MAP
 
 #: heatcore options that are properties here, in panel order.
 HEATCORE_OPTIONS = ("m", "boundary", "accuracy", "robust", "backend", "colormap", "isolines",
@@ -173,7 +187,36 @@ class GeodesicOptions:
         return {name: getattr(self, name) for name in SOLVER_OPTIONS}
 
 
-class HeatGeodesicSettings(GeodesicOptions, bpy.types.PropertyGroup):
+UV_UP_ITEMS = [
+    ("VIEW", "View Up", "The 3D View's up direction (from a script or without a 3D View: the Up Vector)"),
+    ("EDGE", "Selected Edge", "Along the source vertex's selected edge (the first by index), else its first edge"),
+    ("VECTOR", "Vector", "The Up Vector, in world coordinates"),
+]
+
+
+class UVMapOptions:
+    """Options of the *Geodesic UV Map* (mixin for its operator and the scene settings)."""
+
+    uv_map: StringProperty(
+        name="UV Map", default=DEFAULT_UV_MAP,
+        description="UV map that receives the coordinates (one made by an earlier run is overwritten; any other "
+                    "attribute or UV map of that name is refused)",
+    )
+    uv_unit: FloatProperty(
+        name="UV Unit", default=0.0, min=0.0, soft_max=10.0, subtype="DISTANCE",
+        description="Length on the surface of one UV unit, in the units of Space (0: twice the largest distance, "
+                    "so that the map fills the 0..1 square)",
+    )
+    uv_up: EnumProperty(name="Up", items=UV_UP_ITEMS, default="VIEW",
+                        description="Direction at the source that becomes +V (up in the image)")
+    uv_up_vector: FloatVectorProperty(
+        name="Up Vector", size=3, default=(0.0, 0.0, 1.0), subtype="XYZ",
+        description="World-space up direction (Up: Vector, or View Up without a 3D View); its part along the "
+                    "surface normal is dropped",
+    )
+
+
+class HeatGeodesicSettings(GeodesicOptions, UVMapOptions, bpy.types.PropertyGroup):
     """Panel options, stored in the scene (``Scene.heat_geodesic``)."""
 
 

@@ -1,0 +1,114 @@
+"""Operator ``mesh.heat_geodesic_uv_map``: a decal UV map from the logarithmic map around the active vertex.
+
+The button, the menu entries and ``bpy.ops`` run :func:`~.uvmap.geodesic_uv_map`
+on the active mesh object, from its active vertex in Edit Mode (or the
+``vertex`` given), as one undo step. Options not set by the caller come from
+the panel (the scene settings): the UV options of the *UV Map* sub-panel, and
+*Space*, *Shape*, *Time Factor*, *Accuracy* and the *Advanced* solver settings
+of the distance. *Up: View Up* takes the 3D View's up direction when the
+operator is invoked there; from a script or without a 3D View, the *Up Vector*
+(with a warning).
+
+Examples
+--------
+>>> bpy.ops.mesh.heat_geodesic_uv_map(uv_unit=0.5)                                   # doctest: +SKIP
+>>> bpy.ops.mesh.heat_geodesic_uv_map(vertex=12, uv_up="VECTOR", uv_up_vector=(0, 1, 0))   # doctest: +SKIP
+"""
+
+import bpy
+import numpy as np
+from bpy.props import EnumProperty, FloatVectorProperty, IntProperty
+from mathutils import Vector
+
+from ._heatcore import heatcore
+from .adapters import AddonError
+from .properties import SHAPE_ITEMS, SPACE_ITEMS, UVMapOptions, option_property
+from .uvmap import geodesic_uv_map
+
+#: Settings of the distance that the UV map shares (copied from the panel when not set).
+SHARED = ("space", "shape", "m", "accuracy", "boundary", "robust", "backend")
+
+
+def view_up(context):
+    """The world-space up direction of the 3D View of ``context`` (None without one).
+
+    Examples
+    --------
+    >>> view_up(bpy.context)   # doctest: +SKIP
+    array([0., 0., 1.])
+    """
+    rv3d = getattr(context, "region_data", None)
+    if not isinstance(rv3d, bpy.types.RegionView3D):
+        space = getattr(context, "space_data", None)
+        rv3d = getattr(space, "region_3d", None) if getattr(space, "type", None) == "VIEW_3D" else None
+    if rv3d is None:
+        return None
+    return np.array((rv3d.view_rotation @ Vector((0.0, 1.0, 0.0)))[:], dtype=np.float64)
+
+
+class MESH_OT_heat_geodesic_uv_map(UVMapOptions, bpy.types.Operator):
+    """UV map from geodesic polar coordinates around the active vertex (vector heat method): a decal placed with the least distortion"""
+
+    bl_idname = "mesh.heat_geodesic_uv_map"
+    bl_label = "Geodesic UV Map"
+    bl_options = {"REGISTER", "UNDO"}
+
+    vertex: IntProperty(name="Vertex", default=-1, min=-1,
+                        description="Source vertex (-1: the active vertex in Edit Mode)")
+    space: EnumProperty(name="Space", items=SPACE_ITEMS, default="WORLD")
+    shape: EnumProperty(name="Shape", items=SHAPE_ITEMS, default="EVALUATED")
+    m: option_property("m")
+    accuracy: option_property("accuracy")
+    boundary: option_property("boundary")
+    robust: option_property("robust")
+    backend: option_property("backend")
+    view_up: FloatVectorProperty(name="View Up", size=3, default=(0.0, 0.0, 0.0), options={"HIDDEN", "SKIP_SAVE"},
+                                 description="The 3D View's up direction when invoked (zero: none)")
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.active_object
+        if obj is None or obj.type != "MESH":
+            cls.poll_message_set("The active object must be a mesh")
+            return False
+        if not obj.data.is_editmode and (obj.library or obj.data.library):
+            cls.poll_message_set("Linked (library) meshes cannot be modified")
+            return False
+        return True
+
+    def invoke(self, context, event):
+        settings = context.scene.heat_geodesic
+        for name in (*UVMapOptions.__annotations__, *SHARED):
+            if not self.properties.is_property_set(name):
+                setattr(self, name, getattr(settings, name))
+        up = view_up(context)
+        if up is not None and not self.properties.is_property_set("view_up"):
+            self.view_up = up
+        return self.execute(context)
+
+    def up_direction(self, context):
+        """The ``up`` of :func:`geodesic_uv_map` for these options (with a warning when View Up has no view)."""
+        if self.uv_up == "EDGE":
+            return "EDGE"
+        if self.uv_up == "VIEW":
+            up = np.array(self.view_up[:]) if any(self.view_up) else view_up(context)
+            if up is not None:
+                return up
+            self.report({"WARNING"}, "Up: View Up without a 3D View; the Up Vector was used")
+        return np.array(self.uv_up_vector[:])
+
+    def execute(self, context):
+        obj = context.active_object
+        try:
+            result = geodesic_uv_map(
+                obj, None if self.vertex < 0 else self.vertex, name=self.uv_map, unit=self.uv_unit or None,
+                up=self.up_direction(context), space=self.space, shape=self.shape, m=self.m,
+                accuracy=self.accuracy, boundary=self.boundary, robust=self.robust, backend=self.backend,
+            )
+        except (AddonError, heatcore.HeatcoreError) as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        missed = f", {result.unreached:,} vertices unreached (UV 0, 0)" if result.unreached else ""
+        self.report({"INFO"}, f"UV map {result.name!r}: 1 UV unit = {result.unit:.4g}, farthest vertex "
+                              f"{result.max_distance:.4g} from the source{missed}, {result.seconds:.2f} s")
+        return {"FINISHED"}
