@@ -84,9 +84,13 @@ def camera_rotation(elevation, azimuth, up="y"):
 
 
 def _vertex_normals(P, F):
-    """Area-weighted vertex normals (unit, zero where undefined)."""
+    """Vertex normals from the area-weighted normals of the faces around, each turned towards the viewer
+    (``+z``): unit, zero where undefined. Whatever the winding of the faces (inconsistent, inside out,
+    an open surface seen from behind), the side of the surface the viewer sees is lit."""
     a, b = P[F[:, 1]] - P[F[:, 0]], P[F[:, 2]] - P[F[:, 0]]
-    fn = [a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1], a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2], a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]]
+    towards = np.sign(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
+    fn = [(a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1]) * towards, (a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2]) * towards,
+          np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])]
     corners = F.T.ravel()  # every face's first corners, then second, then third
     vn = np.stack([np.bincount(corners, np.tile(c, 3), minlength=len(P)) for c in fn], axis=1)
     norm = np.linalg.norm(vn, axis=1, keepdims=True)
@@ -199,7 +203,7 @@ def render_distance(
     seen, index = np.unique(face, return_inverse=True)  # the faces in the picture, and each pixel's
     color = _pixel_colors(Q, F, d, seen, index, raster.barycentric, colormap, vmax, levels,
                           0.5 * LINE_WIDTH_PT / 72 * dpi * SUPERSAMPLE)
-    color *= _shading(P, F, Q, seen, index, raster.barycentric)[:, None]
+    color *= _shading(P, F, seen, index, raster.barycentric)[:, None]
     image = np.ones((raster.face.size, 3), dtype=np.float32)
     image[raster.pixels] = color
     image = _downsample(image.reshape(raster.face.shape + (3,)), SUPERSAMPLE)
@@ -249,15 +253,11 @@ def _image_box(P, axes_width, axes_height):
     return _ImageBox(float(lo[0]), float(lo[1]), scale * SUPERSAMPLE, int(width), int(height))
 
 
-def _shading(P, F, Q, seen, index, barycentric):
-    """Per covered pixel, Lambert plus ambient light: ``n . light`` from the vertex normals, interpolated
-    in the pixel's face, on the side of the face the viewer sees (flipped where the face's back shows:
-    the inside of an open surface, or a closed one turned inside out)."""
+def _shading(P, F, seen, index, barycentric):
+    """Per covered pixel, Lambert plus ambient light: ``n . light`` at the vertices (normals turned
+    towards the viewer), interpolated in the pixel's face ``seen[index]``."""
     lam = _vertex_normals(P, F) @ (LIGHT / np.linalg.norm(LIGHT))
-    xy = Q[F[seen]][:, :, :2]
-    e1, e2 = xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 0]
-    side = np.where(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0] >= 0, 1.0, -1.0)  # +1: the front shows
-    lit = np.einsum("ij,ij->i", barycentric, lam[F[seen]][index]) * side[index]
+    lit = np.einsum("ij,ij->i", barycentric, lam[F[seen]][index])
     return AMBIENT + (1 - AMBIENT) * np.clip(lit, 0, 1)
 
 
