@@ -48,8 +48,10 @@ from .base import MeshDomain
 from .intrinsic import IntrinsicTriangulation, face_edge_lengths, mollify
 from .operators import Operators
 from .parts import part_extremes, part_means, vertex_components
+from .polygon_refine import REFINED_TIME_FACTOR, refine_levels, split_polygons, unfold, vertices_inside
 from .polygon_shape import fan_triangulate, simple_polygons  # noqa: F401 (fan_triangulate: public here too)
 from .refine import unique_edges
+from ..options import check
 from .sources import edge_list, index_list
 from .cotan import triangle_operators
 from .validate import vertex_array
@@ -288,7 +290,7 @@ class PolygonMesh(MeshDomain):
     source_kinds = ("vertices", "edges", "region")
     unit_heat_once = True
 
-    def __init__(self, V, polygons, *, delaunay=False, split_crossing=False):
+    def __init__(self, V, polygons, *, refine="auto", delaunay=False, split_crossing=False):
         self.vertices = vertex_array(V)
         n = self.vertices.shape[0]
         offsets, indices = polygon_arrays(polygons, n)
@@ -298,19 +300,29 @@ class PolygonMesh(MeshDomain):
             raise InvalidMeshError("no polygon has three distinct corners: the mesh has no area")
         self.polygon_map = np.full(kept.size, -1, dtype=np.int64)
         self.polygon_map[kept] = np.arange(int(kept.sum()))
-        offsets, indices = simple_polygons(self.vertices, self.offsets, self.indices, np.flatnonzero(kept), split_crossing)
+        refine = check("refine", refine)
+        offsets, indices, self._origin = simple_polygons(
+            self.vertices, self.offsets, self.indices, np.flatnonzero(kept), split_crossing
+        )
         used = np.unique(self.indices)
         self.vertex_map = np.full(n, -1, dtype=np.int64)
         self.vertex_map[used] = np.arange(used.size)
         self.delaunay = bool(delaunay)
-        self.operators = self._build_operators(self.vertices[used], offsets, self.vertex_map[indices])
+        corners = self.vertex_map[indices]
+        self._split = (offsets, corners)
+        self.n_virtual = int((np.diff(offsets) > 3).sum())
+        self.part_levels, levels = refine_levels(used.size, offsets, corners, refine)
+        self.levels = int(self.part_levels.max())
+        self.refinement = unfold(split_polygons(self.vertices[used], offsets, corners, levels))
+        r = self.refinement
+        self.operators = self._build_operators(r.vertices, r.offsets, r.corners, used.size)
 
     @property
     def n_polygons(self):
         """Number of polygons kept."""
         return self.offsets.size - 1
 
-    def _build_operators(self, X, offsets, corners):
+    def _build_operators(self, X, offsets, corners, n_input):
         n = X.shape[0]
         sizes = np.diff(offsets)
         m = sizes.size
@@ -332,7 +344,6 @@ class PolygonMesh(MeshDomain):
         big = sizes > 3
         virtual = np.full(m, -1, dtype=np.int64)
         virtual[big] = n + np.arange(int(big.sum()))
-        self.n_virtual = int(big.sum())
         weights = np.full(corners.size, 1.0 / 3.0)
         for k in np.unique(sizes[big]):
             polys = np.flatnonzero(sizes == k)
@@ -344,7 +355,7 @@ class PolygonMesh(MeshDomain):
         rows = np.r_[np.arange(n), virtual[owner[is_virtual]]]
         cols = np.r_[np.arange(n), corners[is_virtual]]
         vals = np.r_[np.ones(n), weights[is_virtual]]
-        N = n + self.n_virtual
+        N = n + int(big.sum())
         P = sp.csr_matrix((vals, (rows, cols)), shape=(N, n))
         self.prolongation = P
         self.refined_vertices = P @ X
@@ -375,21 +386,26 @@ class PolygonMesh(MeshDomain):
         # elements for connectivity: virtual vertices stand in for their polygon's first corner
         stand_in = np.r_[np.arange(n), corners[offsets[:-1][big]]]
         elements = stand_in[intrinsic.faces]
-        return Operators(L, mass, G, fan_ops.volumes, 2, boundary, elements, h[part])
+        # refined parts (those with new vertices) diffuse longer: REFINED_TIME_FACTOR
+        refined = np.zeros(count, dtype=bool)
+        refined[part[n_input:]] = True
+        time_h = h * np.where(refined, np.sqrt(REFINED_TIME_FACTOR), 1.0)
+        return Operators(L, mass, G, fan_ops.volumes, 2, boundary, elements, time_h[part])
 
     def _pin_edges(self, edges, pins):
-        """Polygon edges (vertex pairs): their end points, at distance 0."""
+        """Polygon edges (vertex pairs): their end points and the refined vertices on them, at distance 0."""
         e = edge_list(edges, self.n_input_vertices)
         ce = np.sort(self._referenced(e.ravel()).reshape(-1, 2), axis=1)
-        n = self.operators.n_vertices
-        keys = self.polygon_edges[:, 0] * n + self.polygon_edges[:, 1]
+        edges, r = self.refinement.edges, self.refinement
+        n = int(max(edges.max(), ce.max())) + 1
+        keys = edges[:, 0] * n + edges[:, 1]
         query = ce[:, 0] * n + ce[:, 1]
         pos = np.clip(np.searchsorted(keys, query), 0, max(keys.size - 1, 0))
         missing = keys[pos] != query
         if missing.any():
             bad = e[np.flatnonzero(missing)[0]].tolist()
             raise InvalidSourceError(f"vertex pair {bad} is not an edge of the polygon mesh")
-        pins.add(ce.ravel())
+        pins.add(np.r_[np.unique(ce), np.flatnonzero(np.isin(r.vertex_edge, pos))])
 
     def _pin_region(self, polygons, pins):
         """Input polygons (indices): their corners, at distance 0."""
@@ -401,5 +417,7 @@ class PolygonMesh(MeshDomain):
         starts, stops = self.offsets[kept], self.offsets[kept + 1]
         sizes = stops - starts
         pos = np.repeat(starts - np.r_[0, np.cumsum(sizes)[:-1]], sizes) + np.arange(sizes.sum())
-        pins.add(self.vertex_map[self.indices[pos]])
+        corners = np.unique(self.vertex_map[self.indices[pos]])
+        split = np.flatnonzero(np.isin(self._origin, kept))  # the polygons split (crossing ones: triangles)
+        pins.add(np.r_[corners, vertices_inside(self.refinement, *self._split, split)])
 

@@ -43,6 +43,9 @@ def simple_polygons(X, offsets, corners, given, split=False):
     Returns
     -------
     offsets, corners : int arrays
+    origin : int array
+        The index (into the ``offsets`` given) of the polygon each returned
+        polygon comes from.
 
     Raises
     ------
@@ -58,7 +61,7 @@ def simple_polygons(X, offsets, corners, given, split=False):
     """
     crossing = crossing_polygons(X, offsets, corners)
     if not crossing:
-        return offsets, corners
+        return offsets, corners, np.arange(offsets.size - 1)
     bad = np.array([k for k, _ in crossing])
     named = ", ".join(f"{int(given[k])} (sides {a} and {b})" for k, (a, b) in crossing[:5])
     named += ", ..." if bad.size > 5 else ""
@@ -77,7 +80,8 @@ def simple_polygons(X, offsets, corners, given, split=False):
     fans = triangles[np.isin(polygon, bad)]
     kept_corners = corners[np.repeat(keep, sizes)]
     new_sizes = np.r_[sizes[keep], np.full(len(fans), 3)]
-    return np.r_[0, np.cumsum(new_sizes)], np.r_[kept_corners, fans.ravel()]
+    origin = np.r_[np.flatnonzero(keep), polygon[np.isin(polygon, bad)]]
+    return np.r_[0, np.cumsum(new_sizes)], np.r_[kept_corners, fans.ravel()], origin
 
 
 def fan_triangulate(offsets, indices):
