@@ -2,7 +2,8 @@
 
 Compares, per mesh and source vertex, the mean relative error of
 
-* ``PolygonMesh`` (the paper's operators; the default) and ``PolygonMesh(delaunay=True)``,
+* ``PolygonMesh`` with its defaults (polygon-aware refinement of small meshes) and ``refine=0``
+  (the paper's operators on the polygons as given),
 * ``TriangleMesh`` on the fan triangulation of the polygons, without refinement
   (``refine=0``: like with like) and with its default (``refine="auto"``),
 * potpourri3d's ``PolygonMeshHeatSolver`` (in a child process: it crashes on
@@ -32,6 +33,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
 from conftest import mean_relative_error
+from test_polygon_refine import cc_sphere, great_circle, hex_grid
 from test_polygon import (
     catmull_clark,
     cube,
@@ -48,12 +50,19 @@ from heatcore.domains.polygon import PolygonMesh, fan_triangulate, polygon_array
 
 def cases(tmp):
     """(name, V, polygons, sources, exact distances per source)."""
+    for jitter in (0.0, 0.2):
+        V, H = hex_grid(jitter=jitter)
+        s = int(np.argmin(np.linalg.norm(V - V.mean(0), axis=1)))
+        label = "hex grid 18x26" + (", jittered 0.2" if jitter else "")
+        yield label, V, H, *exact_sources(V, H, [s], tmp)
     for n in (11, 31):
         for jitter in (0.0, 0.3):
             V, Q = quad_grid(n, jitter)
-            s = (n // 2) * n + n // 2
+            sources = [(n // 2) * n + n // 2, 0, n + 2]
             label = f"quad grid {n}x{n}" + (", jittered 0.3" if jitter else "")
-            yield label, V, Q, [s], [np.linalg.norm(V - V[s], axis=1)]
+            yield label, V, Q, sources, [np.linalg.norm(V - V[s], axis=1) for s in sources]
+    V, Q = cc_sphere(3)
+    yield "Catmull-Clark sphere (3 levels)", V, Q, [0, 100, 300], [great_circle(V, s) for s in (0, 100, 300)]
     V, Q = catmull_clark(*cube(), levels=4)
     yield "Catmull-Clark cube (4 levels)", V, Q, *exact_sources(V, Q, [0, 700, 1200], tmp)
     m = load_polygons("suzanne")
@@ -75,7 +84,7 @@ def run(V, polygons, sources, exact, tmp):
     F = fan_triangulate(offsets, idx)[0]
     solvers = {
         "PolygonMesh": lambda: PolygonMesh(V, polygons, split_crossing=True),
-        "PolygonMesh delaunay": lambda: PolygonMesh(V, polygons, delaunay=True, split_crossing=True),
+        "PolygonMesh refine=0": lambda: PolygonMesh(V, polygons, refine=0, split_crossing=True),
         "TriangleMesh fan refine=0": lambda: hc.TriangleMesh(V, F, refine=0),
         "TriangleMesh fan default": lambda: hc.TriangleMesh(V, F),
     }
@@ -149,10 +158,10 @@ def main(argv=None):
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore", hc.HeatcoreWarning)
     tmp = Path(tempfile.mkdtemp())
-    cols = ["PolygonMesh", "PolygonMesh delaunay", "TriangleMesh fan refine=0", "TriangleMesh fan default", "potpourri3d"]
+    cols = ["PolygonMesh", "PolygonMesh refine=0", "TriangleMesh fan refine=0", "TriangleMesh fan default", "potpourri3d"]
     lines = [
-        "| mesh | vertices | polygons | sources | " + " | ".join(cols) + " |",
-        "|---|---:|---:|---:|" + "---:|" * len(cols),
+        "| mesh | vertices | polygons | sources | " + " | ".join(cols) + " | PolygonMesh / TriangleMesh default |",
+        "|---|---:|---:|---:|" + "---:|" * (len(cols) + 1),
     ]
     for name, V, P, sources, exact in cases(tmp):
         res = run(V, P, sources, exact, tmp)
@@ -160,7 +169,8 @@ def main(argv=None):
             "crashed" if res[c][0] is None else f"{100 * res[c][0]:.2f}% ({res[c][1]:.2f} s)" for c in cols
         ]
         line = f"| {name} | {len(np.unique(np.concatenate([np.ravel(p) for p in P])))} | {len(P)} | {len(sources)} | "
-        lines.append(line + " | ".join(cells) + " |")
+        ratio = res["PolygonMesh"][0] / res["TriangleMesh fan default"][0]
+        lines.append(line + " | ".join(cells) + f" | {ratio:.2f} |")
         print(lines[-1], flush=True)
     table = "\n".join(lines) + "\n"
     if args.out:

@@ -242,6 +242,13 @@ class PolygonMesh(MeshDomain):
         corners, and duplicates, are ignored with a warning. Non-planar,
         non-convex polygons, non-manifold edges and several connected
         components are fine; unreferenced vertices get ``inf``.
+    refine : "auto" or int, default "auto"
+        Levels of polygon-aware refinement before building the operators
+        (:mod:`~heatcore.domains.polygon_refine`: each k-gon into k quads at
+        its virtual vertex and edge midpoints, each triangle into four).
+        "auto" is :class:`~heatcore.TriangleMesh`'s rule: each connected part
+        with fewer than ``AUTO_REFINE_MIN_VERTICES`` vertices is split until
+        it has about that many. Results are reported at the input vertices.
     delaunay : bool, default False
         Build the refined triangle operators on the intrinsic Delaunay
         triangulation of the refinement (see the module docstring). The
@@ -255,20 +262,26 @@ class PolygonMesh(MeshDomain):
     Attributes
     ----------
     operators : Operators
-        On the referenced input vertices (``vertex_map`` order).
+        On the referenced input vertices (``vertex_map`` order), then the
+        vertices refinement added.
     offsets, indices : int arrays
         The kept polygons, on input vertex indices.
     polygon_map : (m,) int array
         Kept polygon index of each input polygon, ``-1`` if ignored.
-    weights : (offsets[-1],) float array
-        Virtual-vertex weight of each polygon corner (1/3 on triangles, unused).
-    prolongation : (n_used + n_virtual, n_used) sparse matrix
+    weights : float array
+        Virtual-vertex weight of each corner of the refined polygons (1/3 on triangles, unused).
+    prolongation : (n_ops + n_refined_virtual, n_ops) sparse matrix
         ``P``: operator vertices to refined vertices.
-    refined_vertices : (n_used + n_virtual, 3) float array
+    refined_vertices : (n_ops + n_refined_virtual, 3) float array
     refined_faces : (f, 3) int array
         The (extrinsic) fan triangulation on refined vertices.
     n_virtual : int
-        Polygons with more than three corners (each has a virtual vertex).
+        Input polygons with more than three corners (each has a virtual vertex).
+    part_levels : (n_parts,) int array
+        Refinement levels of each connected part; ``levels`` is the largest.
+    refinement : PolygonRefinement
+        The refined polygon mesh the operators are built on (input vertices
+        first), each part translated to put its first vertex at the origin.
     n_flips : int
         Intrinsic Delaunay flips on the refinement (0 unless ``delaunay=True``).
     mollification : (n_parts,) float array
@@ -280,9 +293,11 @@ class PolygonMesh(MeshDomain):
     --------
     >>> import numpy as np, heatcore as hc
     >>> V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0.2], [0, 1, 0], [2, 0.5, 0]], float)
-    >>> mesh = PolygonMesh(V, [[0, 1, 2, 3], [1, 4, 2]])
+    >>> mesh = PolygonMesh(V, [[0, 1, 2, 3], [1, 4, 2]], refine=0)
     >>> mesh.operators.laplacian.shape, mesh.n_virtual
     ((5, 5), 1)
+    >>> PolygonMesh(V, [[0, 1, 2, 3], [1, 4, 2]]).levels  # a small mesh is split first
+    6
     """
 
     element_name = "polygon"
@@ -311,9 +326,12 @@ class PolygonMesh(MeshDomain):
         corners = self.vertex_map[indices]
         self._split = (offsets, corners)
         self.n_virtual = int((np.diff(offsets) > 3).sum())
-        self.part_levels, levels = refine_levels(used.size, offsets, corners, refine)
+        self.part_levels, levels, part = refine_levels(used.size, offsets, corners, refine)
         self.levels = int(self.part_levels.max())
-        self.refinement = unfold(split_polygons(self.vertices[used], offsets, corners, levels))
+        # each part split around its own first vertex: new points far from the origin keep their digits
+        X = self.vertices[used]
+        X = X - X[np.unique(part, return_index=True)[1]][part]
+        self.refinement = unfold(split_polygons(X, offsets, corners, levels))
         r = self.refinement
         self.operators = self._build_operators(r.vertices, r.offsets, r.corners, used.size)
 

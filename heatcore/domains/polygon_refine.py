@@ -202,11 +202,12 @@ def refine_levels(n, offsets, corners, refine):
     -------
     part_levels : (n_parts,) int array
     levels : (m,) int array, per polygon
+    part : (n,) int array, the connected part of each vertex
 
     Examples
     --------
     >>> refine_levels(4, np.array([0, 4]), np.arange(4), "auto")[0].tolist()
-    [6]
+    [7]
     """
     from .parts import vertex_components
     from .refine import auto_refine_levels, budgeted_levels
@@ -222,7 +223,7 @@ def refine_levels(n, offsets, corners, refine):
     key = np.sort(owner * n + corners)
     repeated = key[1:][key[1:] == key[:-1]] % n
     part_levels[part[repeated]] = 0
-    return part_levels, part_levels[part[corners[offsets[:-1]]]]
+    return part_levels, part_levels[part[corners[offsets[:-1]]]], part
 
 
 def unfold(refined):
@@ -268,7 +269,7 @@ def vertices_inside(refined, offsets, corners, polygons):
     >>> X = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0]], float)
     >>> o, c = np.array([0, 4, 7]), np.array([0, 1, 2, 3, 1, 4, 2])
     >>> vertices_inside(split_polygons(X, o, c, np.array([1, 1])), o, c, np.array([1])).tolist()
-    [6, 7, 9]
+    [7, 8, 10]
     """
     _, side, _ = polygon_sides(offsets, corners, int(max(corners.max(), refined.edges.max())) + 1)
     chosen = np.zeros(offsets.size - 1, dtype=bool)
