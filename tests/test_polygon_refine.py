@@ -23,7 +23,11 @@ from test_polygon import (
 
 import heatcore as hc
 from heatcore.domains.polygon import PolygonMesh, fan_triangulate, polygon_arrays
-from heatcore.domains.polygon_refine import refine_levels, split_polygons, vertices_inside
+from heatcore.domains.polygon_refine import (
+    refine_levels,
+    split_polygons,
+    vertices_inside,
+)
 from heatcore.domains.refine import auto_refine_levels
 
 # ---------------------------------------------------------------- meshes

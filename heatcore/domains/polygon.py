@@ -44,14 +44,21 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import HeatcoreWarning, InvalidMeshError, InvalidSourceError
+from ..options import check
 from .base import MeshDomain
 from .intrinsic import IntrinsicTriangulation, face_edge_lengths, mollify
 from .operators import Operators
 from .parts import part_extremes, part_means, vertex_components
-from .polygon_refine import REFINED_TIME_FACTOR, refine_levels, split_polygons, unfold, vertices_inside
+from .polygon_refine import (  # noqa: F401 (area_minimizer_weights: public here too)
+    REFINED_TIME_FACTOR,
+    area_minimizer_weights,
+    refine_levels,
+    split_polygons,
+    unfold,
+    vertices_inside,
+)
 from .polygon_shape import fan_triangulate, simple_polygons  # noqa: F401 (fan_triangulate: public here too)
 from .refine import unique_edges
-from ..options import check
 from .sources import edge_list, index_list
 from .cotan import triangle_operators
 from .validate import vertex_array
@@ -186,49 +193,6 @@ def clean_polygons(offsets, indices):
     return np.r_[0, np.cumsum(new_sizes[kept])].astype(np.int64), indices[keep_entry], kept
 
 
-def area_minimizer_weights(X):
-    """Affine weights of the virtual vertex of polygons of one size (Bunge et al. 2020, eq. 3).
-
-    The virtual vertex ``x = w @ X`` minimizes the sum of squared areas of the
-    triangles ``(X_i, X_{i+1}, x)``; among the weights giving that point
-    (unique for ``k > 4`` or planar polygons) the ones of least norm are chosen.
-
-    Parameters
-    ----------
-    X : (m, k, 3) float array
-        Corner positions of ``m`` polygons with ``k`` corners each.
-
-    Returns
-    -------
-    (m, k) float array
-        Weights summing to 1 per polygon; uniform for a polygon collapsed to a point.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> square = np.array([[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]], float)
-    >>> area_minimizer_weights(square).round(3).tolist()
-    [[0.25, 0.25, 0.25, 0.25]]
-    """
-    m, k, _ = X.shape
-    c = X.mean(axis=1)
-    Y = X - c[:, None, :]  # translation invariance: work around the centroid
-    d = np.roll(Y, -1, axis=1) - Y
-    # (Y_i - p) x d_i has squared norm (p - Y_i)^T C_i (p - Y_i), C_i = |d_i|^2 I - d_i d_i^T
-    dd = np.einsum("mki,mki->mk", d, d)
-    C = dd[:, :, None, None] * np.eye(3) - d[:, :, :, None] * d[:, :, None, :]
-    A = C.sum(axis=1)
-    b = np.einsum("mkij,mkj->mi", C, Y)
-    scale = np.maximum(np.abs(A).max(axis=(1, 2)), np.finfo(float).tiny)
-    p = np.einsum("mij,mj->mi", np.linalg.pinv(A / scale[:, None, None], rcond=1e-10, hermitian=True), b / scale[:, None])
-    # least-norm weights: w = 1/k + Y (Y^T Y)^+ p  (sum(w) = 1 since sum_i Y_i = 0)
-    YtY = np.einsum("mki,mkj->mij", Y, Y)
-    s2 = np.maximum(np.abs(YtY).max(axis=(1, 2)), np.finfo(float).tiny)
-    q = np.einsum("mij,mj->mi", np.linalg.pinv(YtY / s2[:, None, None], rcond=1e-10, hermitian=True), p / s2[:, None])
-    w = 1.0 / k + np.einsum("mki,mi->mk", Y, q)
-    return np.where(np.isfinite(w).all(axis=1, keepdims=True), w, 1.0 / k)
-
-
 class PolygonMesh(MeshDomain):
     """A polygon mesh as a heat-method domain (virtual refinement, Bunge et al. 2020).
 
@@ -331,7 +295,7 @@ class PolygonMesh(MeshDomain):
         # each part split around its own first vertex: new points far from the origin keep their digits
         X = self.vertices[used]
         X = X - X[np.unique(part, return_index=True)[1]][part]
-        self.refinement = unfold(split_polygons(X, offsets, corners, levels))
+        self.refinement = unfold(split_polygons(X, offsets, corners, levels, area_minimizer_weights))
         r = self.refinement
         self.operators = self._build_operators(r.vertices, r.offsets, r.corners, used.size)
 

@@ -3,7 +3,7 @@
 A polygon with ``k >= 4`` corners is split into ``k`` quads
 ``(c_i, m_i, x_f, m_{i-1})``, where ``m_i`` is the midpoint of side ``i`` and
 ``x_f`` the polygon's virtual vertex (the area minimizer of
-:func:`~heatcore.domains.polygon.area_minimizer_weights`); a triangle is split
+:func:`area_minimizer_weights`); a triangle is split
 into four at its edge midpoints. That is the topology step of Catmull-Clark
 without its smoothing: new points lie on the polygon's own virtual
 refinement, so planar polygons keep exactly their surface, and the refined
@@ -60,6 +60,49 @@ class PolygonRefinement:
     vertex_polygon: np.ndarray
 
 
+def area_minimizer_weights(X):
+    """Affine weights of the virtual vertex of polygons of one size (Bunge et al. 2020, eq. 3).
+
+    The virtual vertex ``x = w @ X`` minimizes the sum of squared areas of the
+    triangles ``(X_i, X_{i+1}, x)``; among the weights giving that point
+    (unique for ``k > 4`` or planar polygons) the ones of least norm are chosen.
+
+    Parameters
+    ----------
+    X : (m, k, 3) float array
+        Corner positions of ``m`` polygons with ``k`` corners each.
+
+    Returns
+    -------
+    (m, k) float array
+        Weights summing to 1 per polygon; uniform for a polygon collapsed to a point.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> square = np.array([[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]], float)
+    >>> area_minimizer_weights(square).round(3).tolist()
+    [[0.25, 0.25, 0.25, 0.25]]
+    """
+    m, k, _ = X.shape
+    c = X.mean(axis=1)
+    Y = X - c[:, None, :]  # translation invariance: work around the centroid
+    d = np.roll(Y, -1, axis=1) - Y
+    # (Y_i - p) x d_i has squared norm (p - Y_i)^T C_i (p - Y_i), C_i = |d_i|^2 I - d_i d_i^T
+    dd = np.einsum("mki,mki->mk", d, d)
+    C = dd[:, :, None, None] * np.eye(3) - d[:, :, :, None] * d[:, :, None, :]
+    A = C.sum(axis=1)
+    b = np.einsum("mkij,mkj->mi", C, Y)
+    scale = np.maximum(np.abs(A).max(axis=(1, 2)), np.finfo(float).tiny)
+    p = np.einsum("mij,mj->mi", np.linalg.pinv(A / scale[:, None, None], rcond=1e-10, hermitian=True), b / scale[:, None])
+    # least-norm weights: w = 1/k + Y (Y^T Y)^+ p  (sum(w) = 1 since sum_i Y_i = 0)
+    YtY = np.einsum("mki,mkj->mij", Y, Y)
+    s2 = np.maximum(np.abs(YtY).max(axis=(1, 2)), np.finfo(float).tiny)
+    q = np.einsum("mij,mj->mi", np.linalg.pinv(YtY / s2[:, None, None], rcond=1e-10, hermitian=True), p / s2[:, None])
+    w = 1.0 / k + np.einsum("mki,mi->mk", Y, q)
+    return np.where(np.isfinite(w).all(axis=1, keepdims=True), w, 1.0 / k)
+
+
 def polygon_sides(offsets, corners, n):
     """Unique edges of polygons and the edge id of each side (side ``s`` runs from corner ``s`` to the next).
 
@@ -96,7 +139,7 @@ def split_polygons(X, offsets, corners, levels, weights=None):
     weights : callable, optional
         ``weights(P)`` for corner positions ``P`` of shape ``(p, k, 3)`` gives
         the ``(p, k)`` affine weights of the split point; default
-        :func:`~heatcore.domains.polygon.area_minimizer_weights`.
+        :func:`area_minimizer_weights`.
 
     Returns
     -------
@@ -110,7 +153,7 @@ def split_polygons(X, offsets, corners, levels, weights=None):
     ([0, 0, 0, 16, 16], 35)
     """
     if weights is None:
-        from .polygon import area_minimizer_weights as weights
+        weights = area_minimizer_weights
     n0 = X.shape[0]
     edges, side_origin, _ = polygon_sides(offsets, corners, n0)
     poly_levels = np.asarray(levels, dtype=np.int64)
