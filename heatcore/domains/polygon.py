@@ -52,6 +52,7 @@ from .parts import part_extremes, part_means, vertex_components
 from .polygon_refine import (  # noqa: F401 (area_minimizer_weights: public here too)
     REFINED_TIME_FACTOR,
     area_minimizer_weights,
+    operator_weights,
     refine_levels,
     split_polygons,
     unfold,
@@ -330,7 +331,7 @@ class PolygonMesh(MeshDomain):
         for k in np.unique(sizes[big]):
             polys = np.flatnonzero(sizes == k)
             pos = offsets[polys][:, None] + np.arange(k)
-            weights[pos] = area_minimizer_weights(X[corners[pos]] / h[part[corners[pos[:, 0]]]][:, None, None])
+            weights[pos] = operator_weights(X[corners[pos]] / h[part[corners[pos[:, 0]]]][:, None, None])
         self.weights = weights
         owner = np.repeat(np.arange(m), sizes)
         is_virtual = big[owner]
