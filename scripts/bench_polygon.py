@@ -33,7 +33,6 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
 from conftest import mean_relative_error
-from test_polygon_refine import cc_sphere, great_circle, hex_grid
 from test_polygon import (
     catmull_clark,
     cube,
@@ -43,6 +42,7 @@ from test_polygon import (
     potpourri_distance,
     quad_grid,
 )
+from test_polygon_refine import cc_sphere, great_circle, hex_grid
 
 import heatcore as hc
 from heatcore.domains.polygon import PolygonMesh, fan_triangulate, polygon_arrays

@@ -229,7 +229,11 @@ def test_self_crossing_polygon_is_a_typed_error_naming_it(polygon, sides):
 
 
 def test_operator_weights_blend_from_area_minimizer_to_centroid():
-    from heatcore.domains.polygon_refine import NONPLANAR_RAMP, area_minimizer_weights, operator_weights
+    from heatcore.domains.polygon_refine import (
+        NONPLANAR_RAMP,
+        area_minimizer_weights,
+        operator_weights,
+    )
 
     kite = np.array([[0, 0, 0], [2, -1, 0], [3, 0, 0], [2, 1, 0]], float)
     heights = np.array([0.0, 0.5, 1.0, 2.0]) * NONPLANAR_RAMP
