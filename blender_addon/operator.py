@@ -193,6 +193,19 @@ class ModalRun:
         return {"CANCELLED"}
 
 
+def poll_editable_mesh(cls, context):
+    """``poll`` of the operators that write to the active mesh: a mesh, not linked from a library
+    (in Edit Mode it is editable anyway); says why not in the tooltip (``poll_message_set``)."""
+    obj = context.active_object
+    if obj is None or obj.type != "MESH":
+        cls.poll_message_set("The active object must be a mesh")
+        return False
+    if not obj.data.is_editmode and (obj.library or obj.data.library):
+        cls.poll_message_set("Linked (library) meshes cannot be modified")
+        return False
+    return True
+
+
 class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
     """Geodesic distance from the selected vertices (heat method), stored as attributes and colors"""
 
@@ -200,16 +213,7 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
     bl_label = "Geodesic Distance"
     bl_options = {"REGISTER", "UNDO"}
 
-    @classmethod
-    def poll(cls, context):
-        obj = context.active_object
-        if obj is None or obj.type != "MESH":
-            cls.poll_message_set("The active object must be a mesh")
-            return False
-        if not obj.data.is_editmode and (obj.library or obj.data.library):
-            cls.poll_message_set("Linked (library) meshes cannot be modified")
-            return False
-        return True
+    poll = classmethod(poll_editable_mesh)
 
     def invoke(self, context, event):
         # From the UI, options not given explicitly come from the panel.

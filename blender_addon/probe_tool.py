@@ -31,7 +31,7 @@ from ._heatcore import heatcore
 from .adapters import AddonError
 from .background import DONE, RUNNING, Busy
 from .legend import format_distance
-from .operator import TIMER_STEP, show_color_attribute
+from .operator import TIMER_STEP, poll_editable_mesh, show_color_attribute
 from .probe import GeodesicProbe
 from .probe_surface import Hit
 
@@ -322,13 +322,7 @@ class MESH_OT_heat_geodesic_probe(bpy.types.Operator):
         default=False,
     )
 
-    @classmethod
-    def poll(cls, context):
-        obj = context.active_object
-        if obj is None or obj.type != "MESH":
-            cls.poll_message_set("The active object must be a mesh")
-            return False
-        return True
+    poll = classmethod(poll_editable_mesh)  # it writes to the mesh when applied
 
     def invoke(self, context, event):
         area = context.area

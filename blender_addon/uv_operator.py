@@ -22,6 +22,7 @@ from mathutils import Vector
 
 from ._heatcore import heatcore
 from .adapters import AddonError
+from .operator import poll_editable_mesh
 from .properties import SHAPE_ITEMS, SPACE_ITEMS, UVMapOptions, option_property
 from .uvmap import geodesic_uv_map
 
@@ -65,16 +66,7 @@ class MESH_OT_heat_geodesic_uv_map(UVMapOptions, bpy.types.Operator):
     view_up: FloatVectorProperty(name="View Up", size=3, default=(0.0, 0.0, 0.0), options={"HIDDEN", "SKIP_SAVE"},
                                  description="The 3D View's up direction when invoked (zero: none)")
 
-    @classmethod
-    def poll(cls, context):
-        obj = context.active_object
-        if obj is None or obj.type != "MESH":
-            cls.poll_message_set("The active object must be a mesh")
-            return False
-        if not obj.data.is_editmode and (obj.library or obj.data.library):
-            cls.poll_message_set("Linked (library) meshes cannot be modified")
-            return False
-        return True
+    poll = classmethod(poll_editable_mesh)
 
     def invoke(self, context, event):
         settings = context.scene.heat_geodesic
