@@ -11,7 +11,8 @@ Modules: ``adapters`` (bpy <-> arrays), ``cache`` (prefactored solvers),
 stages: prepare, build, finish), ``outputs`` (what a run writes),
 ``background`` (the solver build in a worker thread), ``properties``,
 ``operator``, ``panel`` (the sidebar panel and its *Advanced* sub-panel),
-``isoline_operator`` (the *Isoline Curves* operator), ``uvmap`` (:func:`geodesic_uv_map`,
+``isoline_operator`` (the *Isoline Curves* operator), ``path_operator`` and ``path_api``
+(the *Geodesic Path* operator and :func:`geodesic_path`), ``uvmap`` (:func:`geodesic_uv_map`,
 the *Geodesic UV Map* for scripts) and ``uv_operator`` (its operator), ``menus`` (entries in the Edit Mode, Object Mode and Weight Paint menus; F3
 finds them), ``shape`` (which shape is measured), ``undo`` (active color
 across undo), ``material`` (the isoline material), ``legend`` (its
@@ -40,19 +41,21 @@ from . import (
     menus,
     operator,
     panel,
+    path_operator,
     probe_tool,
     properties,
     undo,
     uv_operator,
 )
 from .adapters import AddonError
-from .api import GeodesicResult, compute_geodesic_distance
+from .api import GeodesicResult, PathResult, compute_geodesic_distance, geodesic_path
 from .background import BackgroundBuild
 from .cache import SOLVERS
 from .probe import GeodesicProbe
 from .uvmap import UVMapResult, geodesic_uv_map
 
-__all__ = ["compute_geodesic_distance", "GeodesicResult", "GeodesicProbe", "geodesic_uv_map", "UVMapResult", "AddonError",
+__all__ = ["compute_geodesic_distance", "GeodesicResult", "GeodesicProbe", "geodesic_path", "PathResult",
+           "geodesic_uv_map", "UVMapResult", "AddonError",
            "register", "unregister"]
 
 
@@ -63,6 +66,7 @@ def register():
     probe_tool.register()
     bpy.utils.register_class(isoline_operator.MESH_OT_heat_geodesic_isoline_curves)
     bpy.utils.register_class(uv_operator.MESH_OT_heat_geodesic_uv_map)
+    bpy.utils.register_class(path_operator.MESH_OT_heat_geodesic_path)
     panel.register()
     undo.register()
     menus.register()
@@ -75,6 +79,7 @@ def unregister():
     panel.unregister()
     probe_tool.unregister()
     bpy.utils.unregister_class(uv_operator.MESH_OT_heat_geodesic_uv_map)
+    bpy.utils.unregister_class(path_operator.MESH_OT_heat_geodesic_path)
     bpy.utils.unregister_class(isoline_operator.MESH_OT_heat_geodesic_isoline_curves)
     bpy.utils.unregister_class(operator.MESH_OT_heat_geodesic_distance)
     properties.unregister()

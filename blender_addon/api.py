@@ -9,11 +9,14 @@ Examples
 >>> from bl_ext.user_default.heat_geodesics import compute_geodesic_distance  # doctest: +SKIP
 >>> result = compute_geodesic_distance(bpy.context.object, isolines=10)       # doctest: +SKIP
 >>> result.max_distance, result.seconds                                       # doctest: +SKIP
+>>> from bl_ext.user_default.heat_geodesics import geodesic_path              # doctest: +SKIP
+>>> geodesic_path(bpy.context.object, 0, 40).length                           # doctest: +SKIP
 """
 
 import warnings
 
 from .outputs import DEFAULT_ATTRIBUTE, DEFAULT_COLOR_ATTRIBUTE, DEFAULT_WEIGHT_GROUP
+from .path_api import PathResult, geodesic_path
 from .stages import (
     MESH_OPTIONS,
     GeodesicResult,
@@ -30,7 +33,9 @@ __all__ = [
     "DEFAULT_WEIGHT_GROUP",
     "MESH_OPTIONS",
     "GeodesicResult",
+    "PathResult",
     "compute_geodesic_distance",
+    "geodesic_path",
     "options",
     "resolve_sources",
 ]

@@ -5,7 +5,8 @@ Edit Mode: the right-click context menu, the header's *Vertex* menu and
 context menu (mesh objects); Weight Paint: the *Weights* menu. The *Weights*
 entries run the operator with the vertex-group output on; the others have the
 interactive *Geodesic Probe* (:mod:`.probe_tool`) just above it; the Edit Mode
-context menu and the two Object Mode menus also hold *Isoline Curves* after it. The Edit Mode
+context menu and the two Object Mode menus also hold *Isoline Curves* after it, and the Edit Mode
+context menu and *Vertex* menu end with *Geodesic Path* (:data:`PATH_MENUS`). The Edit Mode
 *UV* menu (U) ends with the *Geodesic UV Map*, after Blender's own projections (:data:`UV_ENTRIES`). Blender's menu
 search (F3) finds every entry, by its label, in the mode where its menu is
 shown. :data:`ENTRIES` lists them; :func:`register` appends one draw function
@@ -16,6 +17,7 @@ import bpy
 
 from .isoline_operator import MESH_OT_heat_geodesic_isoline_curves
 from .operator import MESH_OT_heat_geodesic_distance
+from .path_operator import MESH_OT_heat_geodesic_path
 from .probe_tool import MESH_OT_heat_geodesic_probe
 from .uv_operator import MESH_OT_heat_geodesic_uv_map
 
@@ -27,6 +29,10 @@ PROBE_ICON = "CURSOR"
 CURVES_OPERATOR = MESH_OT_heat_geodesic_isoline_curves.bl_idname
 CURVES_ICON = "OUTLINER_OB_CURVE"
 CURVE_MENUS = ("VIEW3D_MT_edit_mesh_context_menu", "VIEW3D_MT_object", "VIEW3D_MT_object_context_menu")
+#: The *Geodesic Path* operator (two selected vertices), drawn last in :data:`PATH_MENUS`.
+PATH_OPERATOR = MESH_OT_heat_geodesic_path.bl_idname
+PATH_ICON = "CURVE_PATH"
+PATH_MENUS = ("VIEW3D_MT_edit_mesh_context_menu", "VIEW3D_MT_edit_mesh_vertices")
 #: The *Geodesic UV Map* operator, at the end of the Edit Mode *UV* menu (U), after Blender's own projections
 #: (:data:`UV_ENTRIES`).
 UV_OPERATOR = MESH_OT_heat_geodesic_uv_map.bl_idname
@@ -37,7 +43,8 @@ MARK = "_heat_geodesic_entry"
 
 def _entry(menu, text, weights=False, mesh_only=False, curves=False):
     """A draw function adding the operator's entry to ``menu`` (a separator, the probe unless ``weights``,
-    the entry; with ``curves``, then the *Isoline Curves* entry)."""
+    the entry; with ``curves``, then the *Isoline Curves* entry; in :data:`PATH_MENUS`, then *Geodesic Path*)."""
+    path = menu in PATH_MENUS
 
     def draw(self, context):
         if mesh_only:
@@ -55,6 +62,8 @@ def _entry(menu, text, weights=False, mesh_only=False, curves=False):
             props.write_weights = True
         if curves:
             layout.operator(CURVES_OPERATOR, text="Isoline Curves", icon=CURVES_ICON)
+        if path:
+            layout.operator(PATH_OPERATOR, text="Geodesic Path", icon=PATH_ICON)
 
     draw.__name__ = draw.__qualname__ = f"draw_heat_geodesic_{menu}"
     setattr(draw, MARK, menu)

@@ -31,6 +31,7 @@ class VIEW3D_PT_heat_geodesic(bpy.types.Panel):
         row.operator("mesh.heat_geodesic_distance", icon="DRIVER_DISTANCE")
         row.operator("mesh.heat_geodesic_isoline_curves", text="Curves", icon="OUTLINER_OB_CURVE")
         layout.operator("mesh.heat_geodesic_probe", icon="CURSOR")
+        layout.operator("mesh.heat_geodesic_path", icon="CURVE_PATH")
 
         col = layout.column(heading="Sources")
         col.prop(settings, "source", text="Sources")
@@ -68,6 +69,7 @@ class VIEW3D_PT_heat_geodesic(bpy.types.Panel):
             col.prop(settings, "weight_radius")
             col.prop(settings, "weight_falloff")
             col.prop(settings, "weight_invert")
+        col.prop(settings, "path_edges")
 
         stats = context.window_manager.heat_geodesic_stats
         if stats.valid:

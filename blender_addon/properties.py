@@ -153,6 +153,12 @@ class GeodesicOptions:
         description="Distance between the material's isolines (0: the largest distance / Isolines)",
         default=0.0, min=0.0, soft_max=10.0, subtype="DISTANCE",
     )
+    path_edges: BoolProperty(
+        name="Select Path Edges",
+        description="Geodesic Path also selects the mesh edges along the path: the shortest chain of edges from the "
+                    "source to the target among the faces the path crosses",
+        default=False,
+    )
     isoline_width: FloatProperty(
         name="Line Width",
         description="Width of the material's isolines in screen pixels, at any zoom (0.7 to 1 times it, by the "

@@ -183,8 +183,9 @@ def label(text, location, size=0.16):
     bpy.context.collection.objects.link(obj)
 
 
-def render(path, direction=(1.0, 0.0, 0.75), size=(1500, 500)):
-    """Render from ``direction`` (orthographic, at the scene's centre), on white, with Workbench texture colors."""
+def render(path, direction=(1.0, 0.0, 0.75), size=(1500, 500), color_type="TEXTURE"):
+    """Render from ``direction`` (orthographic, at the scene's centre), on white, with Workbench colors
+    ``color_type`` (``"TEXTURE"``: the active image node's; ``"MATERIAL"``: the materials' viewport colors)."""
     direction = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
     cam_data = bpy.data.cameras.new("camera")
     cam_data.type, cam_data.ortho_scale = "ORTHO", 6.6
@@ -201,7 +202,7 @@ def render(path, direction=(1.0, 0.0, 0.75), size=(1500, 500)):
     scene.render.resolution_x, scene.render.resolution_y = size
     scene.view_settings.view_transform = "Standard"
     scene.display.shading.light = "STUDIO"
-    scene.display.shading.color_type = "TEXTURE"
+    scene.display.shading.color_type = color_type
     scene.world = bpy.data.worlds.new("white")
     scene.world.color = (1.0, 1.0, 1.0)
     scene.display.shading.background_type = "WORLD"

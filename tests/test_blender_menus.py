@@ -145,12 +145,17 @@ def test_each_menu_draws_our_entry_last_with_invoke(addon, menu):
     assert len(ours) == 1, ours
     _, _, kw, context, props = ours[0]
     curves = operators(log, "mesh.heat_geodesic_isoline_curves")
-    last = [e for e in log if e[0] == "operator"][-1 - len(curves):]
+    paths = operators(log, "mesh.heat_geodesic_path")
+    last = [e for e in log if e[0] == "operator"][-1 - len(curves) - len(paths):]
     assert last[0] is ours[0]
     # Isoline Curves follows the distance entry in the Edit Mode context menu and the Object Mode menus.
     assert len(curves) == (menu in CURVE_MENUS)
     if curves:
         assert last[1] is curves[0] and curves[0][2]["text"] == "Isoline Curves" and curves[0][3] == "INVOKE_REGION_WIN"
+    # Geodesic Path ends the Edit Mode context menu and Vertex menu (two selected vertices).
+    assert len(paths) == (menu in addon.menus.PATH_MENUS)
+    if paths:
+        assert last[-1] is paths[0] and paths[0][2]["text"] == "Geodesic Path" and paths[0][3] == "INVOKE_REGION_WIN"
     # Invoked, so options not set by the entry come from the panel (Blender's Object menu ends in EXEC).
     assert context == "INVOKE_REGION_WIN"
     assert kw["icon"] == "DRIVER_DISTANCE"

@@ -656,8 +656,10 @@ def test_menus_panel_and_toolbar_have_the_probe(addon, mods):  # noqa: F811
         else:  # the probe just above the distance, both invoked (then Isoline Curves where it is shown)
             curves = [("mesh.heat_geodesic_isoline_curves", "Isoline Curves", "INVOKE_REGION_WIN")
                       ] if menu in addon.menus.CURVE_MENUS else []
+            paths = [("mesh.heat_geodesic_path", "Geodesic Path", "INVOKE_REGION_WIN")
+                     ] if menu in addon.menus.PATH_MENUS else []
             assert ops == [("mesh.heat_geodesic_probe", "Geodesic Probe", "INVOKE_REGION_WIN"),
-                           ("mesh.heat_geodesic_distance", "Geodesic Distance", "INVOKE_REGION_WIN")] + curves, menu
+                           ("mesh.heat_geodesic_distance", "Geodesic Distance", "INVOKE_REGION_WIN")] + curves + paths, menu
     from bl_ui.space_toolsystem_common import ToolSelectPanelHelper
 
     tools = ToolSelectPanelHelper._tool_class_from_space_type("VIEW_3D")._tools

@@ -1,0 +1,67 @@
+"""Operator ``mesh.heat_geodesic_path``: the geodesic path between the two selected vertices as a curve object.
+
+In Edit Mode with exactly two vertices selected, the active one (selected
+last) is the source and the other the target. The path is measured on the
+shape the user sees (the panel's *Space* and *Shape*, the solver options:
+the cached solver of *Geodesic Distance* is reused) and written as the curve
+object ``"<name> Geodesic Path"`` (one poly spline in world coordinates,
+reused on re-runs); with *Select Path Edges* the mesh edges along the path
+are selected too. The length is in the INFO report. One undo step.
+
+Examples
+--------
+>>> bpy.ops.mesh.heat_geodesic_path()                        # doctest: +SKIP
+>>> bpy.ops.mesh.heat_geodesic_path(path_edges=True)         # doctest: +SKIP
+"""
+
+import bpy
+
+from ._heatcore import heatcore
+from .adapters import AddonError
+from .operator import poll_editable_mesh
+from .path_api import geodesic_path
+from .properties import GeodesicOptions
+
+#: What the operator's redo panel shows (the other options do not change a path).
+SHOWN = ("path_edges", "space", "shape", "m", "accuracy")
+
+
+class MESH_OT_heat_geodesic_path(GeodesicOptions, bpy.types.Operator):
+    """Shortest path on the surface from the active vertex to the other selected one, as a curve object"""
+
+    bl_idname = "mesh.heat_geodesic_path"
+    bl_label = "Geodesic Path"
+    bl_options = {"REGISTER", "UNDO"}
+
+    poll = classmethod(poll_editable_mesh)  # it may select edges
+
+    def invoke(self, context, event):
+        # From the UI, options not given explicitly come from the panel.
+        settings = context.scene.heat_geodesic
+        for name in GeodesicOptions.__annotations__:
+            if not self.properties.is_property_set(name):
+                setattr(self, name, getattr(settings, name))
+        return self.execute(context)
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        for name in SHOWN:
+            layout.prop(self, name)
+
+    def execute(self, context):
+        obj = context.active_object
+        try:
+            result = geodesic_path(obj, select_edges=self.path_edges, space=self.space, shape=self.shape,
+                                   **self.solver_options())
+        except (AddonError, heatcore.HeatcoreError, MemoryError) as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        for note in result.warnings:
+            self.report({"WARNING"}, note)
+        units = "scene units" if self.space == "WORLD" else "object units"
+        edges = f", {len(result.edges):,} edges selected" if self.path_edges else ""
+        self.report({"INFO"}, f"Geodesic path from vertex {result.source} to {result.target}: length "
+                              f"{result.length:.6g} {units}, {len(result.points):,} points in {result.curve.name!r}"
+                              f"{edges} ({result.seconds:.2f} s)")
+        return {"FINISHED"}
