@@ -1,4 +1,4 @@
-"""Isoline curves of a :class:`pymeshlab.MeshSet`'s current mesh as a new edge-mesh layer.
+"""Isoline curves and geodesic paths of a :class:`pymeshlab.MeshSet`'s current mesh as new edge-mesh layers.
 
 :func:`isoline_curves_layer` reads the distance the filter
 (:func:`heatcore.apps.meshlab_filter.geodesic_distance_from_selection`) wrote,
@@ -107,3 +107,75 @@ def isoline_curves_layer(ms, levels=8, spacing=None, attribute=None, name="isoli
         ms.set_current_mesh(current)
     return {"id": new, "curves": len(curves), "closed": sum(c.closed for c in curves),
             "points": len(P), "edges": len(E), "levels": sorted({c.level for c in curves})}
+
+
+def geodesic_path_layer(ms, source=None, target=None, name="geodesic path", set_as_current=False, **solver_options):
+    """Add the geodesic path between two vertices of the current mesh to ``ms`` as a new edge-mesh layer.
+
+    Parameters
+    ----------
+    ms : pymeshlab.MeshSet
+    source, target : int, optional
+        Vertex indices of the current mesh. Default (both None): its two selected
+        vertices, the lower index the source (MeshLab has no active vertex).
+    name : str
+        Name of the new layer: the path's points as vertices, a chain of edges.
+    set_as_current : bool
+        Make the new layer current (default: the surface stays current).
+    **solver_options
+        Keywords of :class:`~heatcore.TriangleMesh` and :class:`~heatcore.HeatSolver`
+        (``refine``, ``m``, ...).
+
+    Returns
+    -------
+    dict
+        ``id`` (the new layer's id), ``length``, ``points``, ``source``, ``target``, ``path``
+        (the :class:`~heatcore.GeodesicPath`).
+
+    Raises
+    ------
+    InvalidSourceError
+        Not exactly two selected vertices (without ``source`` and ``target``), or heatcore's own
+        (an index out of range, a target in another part). The MeshSet is not changed.
+
+    Examples
+    --------
+    >>> import pytest
+    >>> pymeshlab = pytest.importorskip("pymeshlab")  # the test extra
+    >>> V = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]); F = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
+    >>> ms = pymeshlab.MeshSet()
+    >>> ms.add_mesh(pymeshlab.Mesh(V, F))
+    >>> out = geodesic_path_layer(ms, 0, 3, refine=0)
+    >>> round(out["length"], 6), out["points"], ms.mesh(out["id"]).edge_matrix().tolist()
+    (1.414214, 3, [[0, 1], [1, 2]])
+    """
+    import pymeshlab  # the caller has imported it (after bpy, where both are used)
+
+    from ..domains.triangle import TriangleMesh
+    from ..errors import InvalidSourceError
+    from ..heat import HeatSolver
+    from ..options import defaults
+
+    mesh = ms.current_mesh()
+    if (source is None) != (target is None):
+        raise InvalidSourceError("give both the source and the target vertex, or neither (the two selected vertices)")
+    if source is None:
+        selected = np.flatnonzero(mesh.vertex_selection_array())
+        if len(selected) != 2:
+            raise InvalidSourceError(f"select exactly two vertices (the lower index is the source): {len(selected)} "
+                                     "are selected")
+        source, target = (int(i) for i in selected)
+    mesh_keys = defaults("mesh")  # the TriangleMesh options; the others go to the solver
+    domain = TriangleMesh(mesh.vertex_matrix(), mesh.face_matrix(),
+                          **{k: v for k, v in solver_options.items() if k in mesh_keys})
+    solver = HeatSolver(domain, **{k: v for k, v in solver_options.items() if k not in mesh_keys})
+    path = solver.geodesic_path(int(source), int(target))
+    k = len(path.points)
+    edges = np.column_stack([np.arange(k - 1), np.arange(1, k)]).astype(np.int32)
+    current = mesh.id()
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=path.points, edge_matrix=edges), mesh_name=name, set_as_current=True)
+    new = ms.current_mesh_id()
+    if not set_as_current:
+        ms.set_current_mesh(current)
+    return {"id": new, "length": float(path.length), "points": k, "source": int(source), "target": int(target),
+            "path": path}
