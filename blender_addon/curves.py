@@ -52,9 +52,10 @@ def write_curves(obj, kind, polylines, closed=None):
     mark = f"{obj.name}\n{kind}"
     curve = next((o for o in bpy.data.objects if o.get(CURVE_MARKER) == mark and o.type == "CURVE"), None)
     if curve is None:
-        data = bpy.data.curves.new(f"{obj.name} Geodesic {kind}", "CURVE")
+        name = f"{obj.name} Geodesic {kind}"
+        data = bpy.data.curves.new(name, "CURVE")
         data.dimensions = "3D"
-        curve = bpy.data.objects.new(data.name, data)
+        curve = bpy.data.objects.new(name, data)  # not data.name: an orphan curve of that name renames the data
         curve[CURVE_MARKER] = mark
         for collection in obj.users_collection or (bpy.context.scene.collection,):
             collection.objects.link(curve)

@@ -49,13 +49,15 @@ def addon():
 
 @pytest.fixture(autouse=True)
 def empty_scene():
-    """Each test starts in Object Mode with no objects or meshes."""
+    """Each test starts in Object Mode with no objects, meshes or curves."""
     if bpy.context.object is not None and bpy.context.object.mode != "OBJECT":
         bpy.ops.object.mode_set(mode="OBJECT")
     for obj in list(bpy.data.objects):
         bpy.data.objects.remove(obj)
     for mesh in list(bpy.data.meshes):
         bpy.data.meshes.remove(mesh)
+    for curve in list(bpy.data.curves):
+        bpy.data.curves.remove(curve)
     yield
 
 

@@ -180,3 +180,10 @@ def test_undo_removes_the_curve(addon):
     assert len([o for o in bpy.data.objects if o.type == "CURVE"]) == 1
     bpy.ops.ed.undo()
     assert not [o for o in bpy.data.objects if o.type == "CURVE"]
+
+
+def test_an_orphan_curve_of_the_same_name_does_not_rename_the_object(addon):
+    obj = ico_sphere(subdivisions=2)
+    bpy.data.curves.new(f"{obj.name} Geodesic Path", "CURVE")  # left by a deleted curve object (no users)
+    result = addon.geodesic_path(obj, 0, 20)
+    assert result.curve.name == f"{obj.name} Geodesic Path"
