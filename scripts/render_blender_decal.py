@@ -213,20 +213,30 @@ def render(path, direction=(1.0, 0.0, 0.75), size=(1500, 500), color_type="TEXTU
     print(f"wrote {path}")
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+def parse_arguments(doc, image, mesh="spot", argv=None):
+    """``--meshes`` and ``--out`` of a render script: the mesh file and the picture's path."""
+    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
     parser.add_argument("--meshes", type=Path, default=REPO.parent / "shared" / "meshes",
-                        help="folder holding spot.obj (default: ../shared/meshes; else heatcore's own copy)")
-    parser.add_argument("--out", type=Path, default=REPO / "docs" / "images" / "blender_decal.png")
+                        help=f"folder holding {mesh}.obj (default: ../shared/meshes; else heatcore's own copy)")
+    parser.add_argument("--out", type=Path, default=REPO / "docs" / "images" / image)
     args = parser.parse_args(argv)
-    mesh_path = args.meshes / "spot.obj"
-    if not mesh_path.exists():
-        mesh_path = REPO / "heatcore" / "data" / "spot.obj"
+    path = args.meshes / f"{mesh}.obj"
+    if not path.exists() and (REPO / "heatcore" / "data" / f"{mesh}.obj").exists():
+        path = REPO / "heatcore" / "data" / f"{mesh}.obj"
+    return path, args.out.resolve()
+
+
+def render_scene(build, mesh_path, out, **render_options):
+    """An empty scene, the add-on, ``build(addon, mesh_path)``, then :func:`render` into ``out``."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
     addon = load_addon()
     build(addon, mesh_path)
-    render(args.out.resolve())
+    render(out, **render_options)
     addon.unregister()
+
+
+def main(argv=None):
+    render_scene(build, *parse_arguments(__doc__, "blender_decal.png", argv=argv))
 
 
 if __name__ == "__main__":

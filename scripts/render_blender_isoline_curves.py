@@ -15,15 +15,11 @@ Examples
     python scripts/render_blender_isoline_curves.py            # docs/images/blender_isoline_curves_spot.png
 """
 
-import argparse
 import math
-from pathlib import Path
 
 import bpy
-from blender_addon_loader import load_addon
-from render_blender_decal import render
+from render_blender_decal import parse_arguments, render_scene
 
-REPO = Path(__file__).resolve().parents[1]
 SOURCE = 1453
 #: Where the two copies stand along x, and their turn about z.
 PLACES = ((-1.3, -math.pi / 4), (1.3, math.pi * 0.75))
@@ -56,19 +52,8 @@ def build(addon, mesh_path):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--meshes", type=Path, default=REPO.parent / "shared" / "meshes",
-                        help="folder holding spot.obj (default: ../shared/meshes; else heatcore's own copy)")
-    parser.add_argument("--out", type=Path, default=REPO / "docs" / "images" / "blender_isoline_curves_spot.png")
-    args = parser.parse_args(argv)
-    mesh_path = args.meshes / "spot.obj"
-    if not mesh_path.exists():
-        mesh_path = REPO / "heatcore" / "data" / "spot.obj"
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    addon = load_addon()
-    build(addon, mesh_path)
-    render(args.out.resolve(), direction=(0.0, -1.0, 0.3), size=(960, 480), color_type="VERTEX")
-    addon.unregister()
+    render_scene(build, *parse_arguments(__doc__, "blender_isoline_curves_spot.png", argv=argv),
+                 direction=(0.0, -1.0, 0.3), size=(960, 480), color_type="VERTEX")
 
 
 if __name__ == "__main__":

@@ -16,15 +16,11 @@ Examples
     python scripts/render_blender_path.py --meshes ../shared/meshes --out path.png
 """
 
-import argparse
 import math
-from pathlib import Path
 
 import bpy
-from blender_addon_loader import load_addon
-from render_blender_decal import render
+from render_blender_decal import parse_arguments, render_scene
 
-REPO = Path(__file__).resolve().parents[1]
 SOURCE, TARGET = 4785, 1983
 SCALE = 5.0
 #: Where the two copies stand along x, and their turn about z (the camera looks along +y at the front).
@@ -66,16 +62,8 @@ def build(addon, mesh_path):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--meshes", type=Path, default=REPO.parent / "shared" / "meshes",
-                        help="folder holding homer.obj (default: ../shared/meshes)")
-    parser.add_argument("--out", type=Path, default=REPO / "docs" / "images" / "blender_path.png")
-    args = parser.parse_args(argv)
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    addon = load_addon()
-    build(addon, args.meshes / "homer.obj")
-    render(args.out.resolve(), direction=(0.0, -1.0, 0.12), size=(960, 720), color_type="MATERIAL")
-    addon.unregister()
+    render_scene(build, *parse_arguments(__doc__, "blender_path.png", "homer", argv), direction=(0.0, -1.0, 0.12),
+                 size=(960, 720), color_type="MATERIAL")
 
 
 if __name__ == "__main__":

@@ -55,6 +55,18 @@ def edge_mesh_arrays(curves):
     return np.vstack(points), np.vstack(edges)
 
 
+def _add_edge_layer(ms, points, edges, name, set_as_current):
+    """Add a mesh of vertices and edges to ``ms``; the current mesh stays current unless asked. Its id."""
+    import pymeshlab  # the caller has imported it (after bpy, where both are used)
+
+    current = ms.current_mesh().id()
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=points, edge_matrix=edges), mesh_name=name, set_as_current=True)
+    new = ms.current_mesh_id()
+    if not set_as_current:
+        ms.set_current_mesh(current)
+    return new
+
+
 def isoline_curves_layer(ms, levels=8, spacing=None, attribute=None, name="isolines", set_as_current=False):
     """Add the isolines of the current mesh's distance to ``ms`` as a new edge-mesh layer.
 
@@ -89,8 +101,6 @@ def isoline_curves_layer(ms, levels=8, spacing=None, attribute=None, name="isoli
     >>> out["curves"], ms.mesh_number(), ms.mesh(out["id"]).edge_matrix().tolist()
     (1, 2, [[0, 1]])
     """
-    import pymeshlab  # the caller has imported it (after bpy, where both are used)
-
     mesh = ms.current_mesh()
     V, F = mesh.vertex_matrix(), mesh.face_matrix()
     if attribute is None:
@@ -98,13 +108,9 @@ def isoline_curves_layer(ms, levels=8, spacing=None, attribute=None, name="isoli
     else:
         d = np.array(mesh.vertex_custom_scalar_attribute_array(attribute), dtype=float)
     d[d < 0] = np.inf  # the filter's unreachable vertices
-    current = mesh.id()
     curves = isolines(V, F, d, _levels(d, levels, spacing))
     P, E = edge_mesh_arrays(curves)
-    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=P, edge_matrix=E), mesh_name=name, set_as_current=True)
-    new = ms.current_mesh_id()
-    if not set_as_current:
-        ms.set_current_mesh(current)
+    new = _add_edge_layer(ms, P, E, name, set_as_current)
     return {"id": new, "curves": len(curves), "closed": sum(c.closed for c in curves),
             "points": len(P), "edges": len(E), "levels": sorted({c.level for c in curves})}
 
@@ -149,8 +155,6 @@ def geodesic_path_layer(ms, source=None, target=None, name="geodesic path", set_
     >>> round(out["length"], 6), out["points"], ms.mesh(out["id"]).edge_matrix().tolist()
     (1.414214, 3, [[0, 1], [1, 2]])
     """
-    import pymeshlab  # the caller has imported it (after bpy, where both are used)
-
     from ..domains.triangle import TriangleMesh
     from ..errors import InvalidSourceError
     from ..heat import HeatSolver
@@ -172,10 +176,6 @@ def geodesic_path_layer(ms, source=None, target=None, name="geodesic path", set_
     path = solver.geodesic_path(int(source), int(target))
     k = len(path.points)
     edges = np.column_stack([np.arange(k - 1), np.arange(1, k)]).astype(np.int32)
-    current = mesh.id()
-    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=path.points, edge_matrix=edges), mesh_name=name, set_as_current=True)
-    new = ms.current_mesh_id()
-    if not set_as_current:
-        ms.set_current_mesh(current)
+    new = _add_edge_layer(ms, path.points, edges, name, set_as_current)
     return {"id": new, "length": float(path.length), "points": k, "source": int(source), "target": int(target),
             "path": path}
