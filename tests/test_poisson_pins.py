@@ -87,3 +87,20 @@ def test_the_kept_responses_stay_within_their_memory(monkeypatch):
         solver.distance(points=([face], [[1 / 3, 1 / 3, 1 / 3]]))
     assert len(solver.poisson._responses) == keep
     assert set(F[3 * keep - 3]) <= set(solver.poisson._responses)  # the last pinned are kept
+
+
+def test_a_dragged_point_reuses_the_forward_halves_of_its_corners():
+    V, F = hc.io.load_demo_mesh()
+    solver = hc.HeatSolver(hc.TriangleMesh(V, F, refine=0), backend="supernodal")
+    fresh = hc.HeatSolver(hc.TriangleMesh(V, F, refine=0), backend="supernodal")
+    halves = []
+    compute = solver.poisson._forward_halves
+    solver.poisson._forward_halves = lambda vertices: halves.append(vertices.tolist()) or compute(vertices)
+    first, second = ([5], [[0.2, 0.3, 0.5]]), ([6], [[0.2, 0.3, 0.5]])  # faces 5 and 6 share corners
+    d1 = solver.distance(points=first)
+    d2 = solver.distance(points=first)
+    d3 = solver.distance(points=second)
+    assert len(halves) == 2 and len(halves[0]) == 3  # the same face again: nothing new
+    assert not set(halves[1]) & set(halves[0]) and len(halves[1]) < 3  # the next face: its new corners only
+    for d, point in ((d1, first), (d2, first), (d3, second)):
+        np.testing.assert_allclose(d, fresh.distance(points=point), rtol=1e-12, atol=1e-14)

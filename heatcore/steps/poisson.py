@@ -10,10 +10,10 @@ parts). A source of more than ``MAX_PRECOMPUTED_PINS`` pinned vertices gets
 a factorization of the pinned system of its own. Several pins cost one solve
 per pin more (their unit responses); on a factor with two halves (the
 supernodal backend: ``forward``/``backward``) they cost one solve in all
-(:meth:`PinnedPoisson._solve_in_halves`), and elsewhere the responses of the
-most recently pinned vertices are kept (``RESPONSE_CACHE_MB``): a point source
-dragged across neighbouring faces (the Blender add-on's probe) pins the same
-corners again.
+(:meth:`PinnedPoisson._solve_in_halves`). The responses of the most recently
+pinned vertices are kept (``RESPONSE_CACHE_MB``; their forward halves on a
+factor with two halves): a point source dragged across neighbouring faces (the
+Blender add-on's probe) pins the same corners again.
 
 Examples
 --------
@@ -103,6 +103,7 @@ class PinnedPoisson:
         self.n_components = n_components
         self.factor_free = factor_free
         self._responses = OrderedDict()  # vertex -> its grounded unit response (least recently used first)
+        self._forward_units = OrderedDict()  # vertex -> the forward half of its unit response (two-half factors)
 
     def solve(self, b, pins, reached):
         """``phi`` minimizing the Dirichlet-energy misfit to ``b`` with ``phi[pins.vertices] = pins.values``.
@@ -139,18 +140,22 @@ class PinnedPoisson:
         >>> Z.shape, bool((poisson.unit_responses(np.array([2]))[:, 0] == Z[:, 1]).all())
         ((3, 2), True)
         """
+        return self._cached_columns(self._responses, vertices, self._solve_units)
+
+    def _cached_columns(self, cache, vertices, compute):
+        """Columns ``compute(vertices)`` of the vertices, reused from ``cache`` (vertex -> column, least
+        recently used first) and kept there: at most ``MAX_CACHED_RESPONSES`` columns or ``RESPONSE_CACHE_MB``."""
         n = self.laplacian.shape[0]
         keep = max(MIN_CACHED_RESPONSES, min(MAX_CACHED_RESPONSES, int(RESPONSE_CACHE_MB * 2**20) // (8 * n)))
         if vertices.size > keep:
-            return self._solve_units(vertices)
-        cache = self._responses
+            return compute(vertices)
         order = vertices.tolist()
         missing = [v for v in dict.fromkeys(order) if v not in cache]
         if missing:
-            solved = self._solve_units(np.asarray(missing))
+            solved = compute(np.asarray(missing))
             for j, v in enumerate(missing):
                 cache[v] = np.ascontiguousarray(solved[:, j])
-        Z = np.empty((n, len(order)))
+        Z = np.empty((n, len(order)), order="F")  # columns contiguous
         for j, v in enumerate(order):
             Z[:, j] = cache[v]
             cache.move_to_end(v)
@@ -220,15 +225,7 @@ class PinnedPoisson:
             return None
         b[self.ground] = 0.0
         y = forward(b)
-        grounded = np.zeros(n, dtype=bool)
-        grounded[self.ground] = True
-        U = np.zeros((n, P.size), order="F")  # columns contiguous
-        unit = np.zeros(n)
-        for j, v in enumerate(P.tolist()):
-            if not grounded[v]:  # a ground vertex's response is 0 (held at 0)
-                unit[v] = 1.0
-                U[:, j] = forward(unit)
-                unit[v] = 0.0
+        U = self._cached_columns(self._forward_units, P, self._forward_halves)  # kept: a dragged point pins again
         several = self._several(P)
         loaded = U if several.size == P.size else U[:, several]
         mu, shift = self._pin_loads(U.T @ y, loaded.T @ loaded, P, d, several)
@@ -236,6 +233,20 @@ class PinnedPoisson:
         x = backward(y)
         x += shift[self.component] if self.n_components > 1 else shift[0]
         return x
+
+    def _forward_halves(self, vertices):
+        """``L^-1 P e_v`` per vertex (sparse forward solves), as columns; 0 for a ground vertex (held at 0)."""
+        n = self.laplacian.shape[0]
+        grounded = np.zeros(n, dtype=bool)
+        grounded[self.ground] = True
+        U = np.zeros((n, vertices.size), order="F")
+        unit = np.zeros(n)
+        for j, v in enumerate(vertices.tolist()):
+            if not grounded[v]:
+                unit[v] = 1.0
+                U[:, j] = self.factor.forward(unit)
+                unit[v] = 0.0
+        return U
 
     def _factor_pinned(self, b, P, d, reached):
         """Pinned Poisson solve with a factorization of its own (many pinned vertices)."""
