@@ -10,8 +10,8 @@
 All factorizations are built in the constructor; :meth:`HeatSolver.distance`
 only runs triangular solves and sparse products, and :meth:`HeatSolver.distances`
 runs them for many sources at once. The steps' own numerics live beside this
-module, in :mod:`heatcore.steps`: the time step's underflow guard, the unit field (step 2), the
-pinned Poisson solve (step 3) and the blocks of many sources.
+module, in :mod:`heatcore.steps`: the time step's underflow guard, the heat flow (step 1), the
+unit field (step 2), the pinned Poisson solve (step 3) and the blocks of many sources.
 
 Examples
 --------
@@ -48,6 +48,7 @@ from .options import check
 from .paths.queries import PathQueries
 from .progress import Progress
 from .steps.blocks import block_columns, source_sequence
+from .steps.heat_flow import HeatFlow
 from .steps.poisson import MAX_PRECOMPUTED_PINS, PinnedPoisson, grounded
 from .steps.time_step import underflow_safe_m
 from .steps.unit_field import minus_divergence, minus_divergence_columns, unit_field
@@ -175,7 +176,7 @@ class HeatSolver(VoronoiQueries, PathQueries):
             self._factor_free,
         )
         self.timings["poisson factorization"] = time.perf_counter() - start
-        for key, ordering in self._domain_cache.items():
+        for ordering in self._domain_cache.values():
             if isinstance(ordering, Ordering):
                 ordering.forget_pattern()  # its memory matters more than re-converting for another m
         log.info("heat solver ready: %d operator vertices, %d components, t=%.3g..%.3g, boundary=%s (%.2f s)", n,
@@ -357,20 +358,7 @@ class HeatSolver(VoronoiQueries, PathQueries):
 
     def heat(self, impulse):
         """Heat after one backward Euler step of length ``t`` from ``impulse`` ((n,), or (n, k): k columns at once)."""
-        u_neumann = solve_columns(self._heat_neumann, impulse)
-        if self.boundary == "neumann":
-            return u_neumann
-        u = np.zeros_like(impulse)
-        if self._heat_dirichlet is not None:
-            u[self._interior] = solve_columns(self._heat_dirichlet, impulse[self._interior])
-        # A component whose heat all sits on the boundary gets none under
-        # Dirichlet conditions: use the Neumann solution there.
-        cold = _component_sums(self.component, np.abs(u), self.n_components) == 0
-        if self.boundary == "robin":
-            u = 0.5 * (u + u_neumann)
-        fallback = cold[self.component]
-        u[fallback] = u_neumann[fallback]
-        return u
+        return self.heat_flow.solve(impulse)
 
     def unit_field(self, u):
         """``-grad u / |grad u|`` per element, 0 where the gradient vanishes or is not finite (see :mod:`heatcore.steps.unit_field`)."""
@@ -381,17 +369,17 @@ class HeatSolver(VoronoiQueries, PathQueries):
         ops = self.ops
         step = self._time_step
         heat_matrix = (sp.diags(ops.mass) + (step * ops.laplacian if np.ndim(step) == 0 else sp.diags(step) @ ops.laplacian)).tocsr()
-        self._heat_dirichlet = None
+        dirichlet, interior = None, None
         if self.boundary in ("robin", "dirichlet"):
-            self._interior = np.flatnonzero(~ops.boundary)
-            if self._interior.size:
+            interior = np.flatnonzero(~ops.boundary)
+            if interior.size:
                 progress(0.0, "factoring the heat matrix (interior vertices, for the Dirichlet condition)")
-                ordering = restrict_ordering(self._ordering(backend), self._interior)
-                interior_matrix = heat_matrix[self._interior][:, self._interior]
-                self._heat_dirichlet = factor(interior_matrix, backend, ordering=ordering)
+                ordering = restrict_ordering(self._ordering(backend), interior)
+                dirichlet = factor(heat_matrix[interior][:, interior], backend, ordering=ordering)
         # Neumann: the condition itself, half of Robin, or the fallback where Dirichlet sees no heat.
-        progress(0.0 if self._heat_dirichlet is None else 0.5, "factoring the heat matrix")
-        self._heat_neumann = factor(heat_matrix, backend, ordering=self._ordering(backend))
+        progress(0.0 if dirichlet is None else 0.5, "factoring the heat matrix")
+        neumann = factor(heat_matrix, backend, ordering=self._ordering(backend))
+        self.heat_flow = HeatFlow(neumann, dirichlet, interior, self.boundary, self.component, self.n_components)
 
     def _resolve(self, backend, prefer):
         """The backend that ``backend`` stands for on this domain's matrices."""
@@ -437,12 +425,3 @@ def domain_factors(domain):
     ['nested', 'ordering', 'poisson']
     """
     return _DOMAIN_FACTORS.setdefault(domain, {})
-
-
-def _component_sums(component, values, n_components):
-    """Sums of ``values`` ((n,) or (n, k)) over each component: (n_components,) or (n_components, k)."""
-    if values.ndim == 1:
-        return np.bincount(component, weights=values, minlength=n_components)
-    k = values.shape[1]
-    index = (component[:, None] * k + np.arange(k)).ravel()
-    return np.bincount(index, weights=values.ravel(), minlength=n_components * k).reshape(n_components, k)

@@ -17,7 +17,7 @@ parts, medians over the drag:
   source points), what the probe draws while dragging;
 - update: the whole ``move_to`` (query + overlay), while dragging and after a
   jump (the drag reuses the unit responses of corners pinned just before,
-  ``heatcore.steps.poisson.RESPONSE_CACHE_MB``; a jump solves three more
+  ``heatcore.steps.column_cache``; a jump solves three more
   columns of the Poisson step);
 - writes instead: what writing the outputs at each update would cost
   (``colorize`` + distance and color attributes, as the one-shot operator),

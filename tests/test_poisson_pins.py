@@ -3,7 +3,7 @@ save solves give what one solve per pin gives.
 
 On the supernodal backend the pins cost one solve in all (the factor's two halves,
 ``PinnedPoisson._solve_in_halves``); on the others the unit responses of recently pinned vertices
-are kept (``RESPONSE_CACHE_MB``). Both are checked against the plain path (a full solve per pin)
+are kept (``heatcore.steps.column_cache``). Both are checked against the plain path (a full solve per pin)
 on the same factorization, with pins in two parts of a mesh and a pin on a ground vertex.
 """
 
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import heatcore as hc
-import heatcore.steps.poisson as poisson
+from heatcore.steps import column_cache
 
 
 def two_spheres():
@@ -32,14 +32,14 @@ def plain(solver, sources):
     """The distance with one full solve per pin (the path without halves or kept responses)."""
     factor, responses = solver.poisson.factor, solver.poisson._responses
     solver.poisson.factor = type("Plain", (), {"solve": factor.solve})()  # no forward/backward halves
-    saved = poisson.RESPONSE_CACHE_MB, poisson.MIN_CACHED_RESPONSES
-    poisson.RESPONSE_CACHE_MB, poisson.MIN_CACHED_RESPONSES = 0, 0
-    solver.poisson._responses = type(responses)()
+    saved = column_cache.COLUMN_CACHE_MB, column_cache.MIN_CACHED_COLUMNS
+    column_cache.COLUMN_CACHE_MB, column_cache.MIN_CACHED_COLUMNS = 0, 0
+    solver.poisson._responses = column_cache.ColumnCache(responses.rows)
     try:
         return solver.distance(**sources)
     finally:
         solver.poisson.factor, solver.poisson._responses = factor, responses
-        poisson.RESPONSE_CACHE_MB, poisson.MIN_CACHED_RESPONSES = saved
+        column_cache.COLUMN_CACHE_MB, column_cache.MIN_CACHED_COLUMNS = saved
 
 
 @pytest.mark.parametrize("backend", ["supernodal", "qdldl"])
@@ -78,11 +78,11 @@ def test_the_pins_cost_what_was_promised():
 
 
 def test_the_kept_responses_stay_within_their_memory(monkeypatch):
-    monkeypatch.setattr(poisson, "RESPONSE_CACHE_MB", 1)
+    monkeypatch.setattr(column_cache, "COLUMN_CACHE_MB", 1)
     V, F = hc.io.load_demo_mesh()
     solver = hc.HeatSolver(hc.TriangleMesh(V, F, refine=0), backend="qdldl")
-    keep = max(poisson.MIN_CACHED_RESPONSES, poisson.RESPONSE_CACHE_MB * 2**20 // (8 * len(V)))
-    assert keep == 44 < poisson.MAX_CACHED_RESPONSES
+    keep = max(column_cache.MIN_CACHED_COLUMNS, column_cache.COLUMN_CACHE_MB * 2**20 // (8 * len(V)))
+    assert keep == 44 == solver.poisson._responses.keep < column_cache.MAX_CACHED_COLUMNS
     for face in range(0, 3 * keep, 3):
         solver.distance(points=([face], [[1 / 3, 1 / 3, 1 / 3]]))
     assert len(solver.poisson._responses) == keep

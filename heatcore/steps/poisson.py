@@ -11,9 +11,9 @@ a factorization of the pinned system of its own. Several pins cost one solve
 per pin more (their unit responses); on a factor with two halves (the
 supernodal backend: ``forward``/``backward``) they cost one solve in all
 (:meth:`PinnedPoisson._solve_in_halves`). The responses of the most recently
-pinned vertices are kept (``RESPONSE_CACHE_MB``; their forward halves on a
-factor with two halves): a point source dragged across neighbouring faces (the
-Blender add-on's probe) pins the same corners again.
+pinned vertices are kept (:class:`~heatcore.steps.column_cache.ColumnCache`;
+their forward halves on a factor with two halves): a point source dragged
+across neighbouring faces (the Blender add-on's probe) pins the same corners again.
 
 Examples
 --------
@@ -25,21 +25,15 @@ Examples
 [5.0, 5.0, 5.0]
 """
 
-from collections import OrderedDict
-
 import numpy as np
 import scipy.sparse as sp
+
+from .column_cache import ColumnCache
 
 #: Up to this many pinned vertices, the pinned Poisson solve reuses the
 #: prefactored Laplacian (one multi-right-hand-side solve); beyond, it factors
 #: the pinned system for that query.
 MAX_PRECOMPUTED_PINS = 256
-#: The unit responses kept for reuse (:meth:`PinnedPoisson.unit_responses`): the most recently pinned
-#: vertices' columns, at most ``MAX_CACHED_RESPONSES`` and ``RESPONSE_CACHE_MB`` megabytes of them (but at
-#: least ``MIN_CACHED_RESPONSES``). The memory also bounds the forward solves of the supernodal path.
-RESPONSE_CACHE_MB = 64
-MIN_CACHED_RESPONSES = 4
-MAX_CACHED_RESPONSES = 64
 
 
 def grounded(L, ground):
@@ -102,8 +96,8 @@ class PinnedPoisson:
         self.component = component
         self.n_components = n_components
         self.factor_free = factor_free
-        self._responses = OrderedDict()  # vertex -> its grounded unit response (least recently used first)
-        self._forward_units = OrderedDict()  # vertex -> the forward half of its unit response (two-half factors)
+        self._responses = ColumnCache(laplacian.shape[0])  # vertex -> its grounded unit response
+        self._forward_units = ColumnCache(laplacian.shape[0])  # vertex -> the forward half of it (two-half factors)
 
     def solve(self, b, pins, reached):
         """``phi`` minimizing the Dirichlet-energy misfit to ``b`` with ``phi[pins.vertices] = pins.values``.
@@ -129,8 +123,7 @@ class PinnedPoisson:
         """Grounded solutions ``L^-1 e_v`` for the vertices ``v``, as columns.
 
         Columns of recently pinned vertices are reused; the others are solved
-        together and kept (least recently used dropped beyond ``MAX_CACHED_RESPONSES`` or
-        ``RESPONSE_CACHE_MB``).
+        together and kept (:class:`~heatcore.steps.column_cache.ColumnCache`).
 
         Examples
         --------
@@ -140,28 +133,7 @@ class PinnedPoisson:
         >>> Z.shape, bool((poisson.unit_responses(np.array([2]))[:, 0] == Z[:, 1]).all())
         ((3, 2), True)
         """
-        return self._cached_columns(self._responses, vertices, self._solve_units)
-
-    def _cached_columns(self, cache, vertices, compute):
-        """Columns ``compute(vertices)`` of the vertices, reused from ``cache`` (vertex -> column, least
-        recently used first) and kept there: at most ``MAX_CACHED_RESPONSES`` columns or ``RESPONSE_CACHE_MB``."""
-        n = self.laplacian.shape[0]
-        keep = max(MIN_CACHED_RESPONSES, min(MAX_CACHED_RESPONSES, int(RESPONSE_CACHE_MB * 2**20) // (8 * n)))
-        if vertices.size > keep:
-            return compute(vertices)
-        order = vertices.tolist()
-        missing = [v for v in dict.fromkeys(order) if v not in cache]
-        if missing:
-            solved = compute(np.asarray(missing))
-            for j, v in enumerate(missing):
-                cache[v] = np.ascontiguousarray(solved[:, j])
-        Z = np.empty((n, len(order)), order="F")  # columns contiguous
-        for j, v in enumerate(order):
-            Z[:, j] = cache[v]
-            cache.move_to_end(v)
-        while len(cache) > keep:
-            cache.popitem(last=False)
-        return Z
+        return self._responses.columns(vertices, self._solve_units)
 
     def _solve_units(self, vertices):
         E = np.zeros((self.laplacian.shape[0], vertices.size))
@@ -217,15 +189,14 @@ class PinnedPoisson:
         in :meth:`apply_pins`, and one backward solve of ``y + sum mu_v u_v``
         gives the result: the cost of one solve, where :meth:`apply_pins` adds a
         full solve per pin. Returns None where the factor has no halves or the
-        pins' forward solves would not fit in ``RESPONSE_CACHE_MB``.
+        pins' forward solves are more than their cache keeps.
         """
-        n = self.laplacian.shape[0]
         forward, backward = getattr(self.factor, "forward", None), getattr(self.factor, "backward", None)
-        if forward is None or backward is None or 8 * n * P.size > RESPONSE_CACHE_MB * 2**20:
+        if forward is None or backward is None or P.size > self._forward_units.keep:
             return None
         b[self.ground] = 0.0
         y = forward(b)
-        U = self._cached_columns(self._forward_units, P, self._forward_halves)  # kept: a dragged point pins again
+        U = self._forward_units.columns(P, self._forward_halves)  # kept: a dragged point pins again
         several = self._several(P)
         loaded = U if several.size == P.size else U[:, several]
         mu, shift = self._pin_loads(U.T @ y, loaded.T @ loaded, P, d, several)

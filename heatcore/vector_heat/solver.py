@@ -130,7 +130,7 @@ class VectorHeatSolver:
         # were 1.7-2.1 times further from exact geodesics on spot, cheburashka and fandisk, though closer
         # to the longitude on an icosphere (docs/vector-heat.md).
         self._step = hs.part_m[hs.component] * h * h
-        self._flow = hs._heat_neumann
+        self._flow = hs.heat_flow.neumann
         key = ("vector heat", (hs.m, backend))
         if key not in cache:
             vector = (sp.diags(ops.mass.astype(complex)) + sp.diags(self._step) @ self._connection).tocsr()
