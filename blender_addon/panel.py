@@ -117,7 +117,7 @@ class VIEW3D_PT_heat_geodesic_uv_map(bpy.types.Panel):
     bl_options = {"DEFAULT_CLOSED"}
 
     #: The settings shown here, in order (``properties.UVMapOptions``).
-    PROPERTIES = ("uv_map", "uv_unit", "uv_up", "uv_up_vector")
+    PROPERTIES = ("uv_map", "uv_unit", "uv_accuracy", "uv_up", "uv_up_vector")
 
     def draw(self, context):
         layout = self.layout

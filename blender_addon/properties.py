@@ -57,8 +57,8 @@ SOURCE_ITEMS = [
 ]
 
 
-def option_property(name):
-    """The bpy property of heatcore option ``name`` (``heatcore.options.OPTIONS[name]``).
+def option_property(name, front_end="blender"):
+    """The bpy property of heatcore option ``name`` (``heatcore.options.OPTIONS[name]``), with ``front_end``'s default.
 
     Examples
     --------
@@ -66,7 +66,7 @@ def option_property(name):
     1.0
     """
     opt = options.OPTIONS[name]
-    kw = {"name": opt.ui_label or opt.label.title(), "description": opt.help, "default": opt.default_for("blender")}
+    kw = {"name": opt.ui_label or opt.label.title(), "description": opt.help, "default": opt.default_for(front_end)}
     if opt.choices:
         items = [(c, CHOICE_LABELS.get(c, c.capitalize()), text) for c, text in zip(opt.choices, opt.choice_help)]
         return EnumProperty(items=items, **kw)
@@ -213,6 +213,7 @@ class UVMapOptions:
         description="Length on the surface of one UV unit, in the units of Space (0: twice the largest distance, "
                     "so that the map fills the 0..1 square)",
     )
+    uv_accuracy: option_property("accuracy", front_end="vector heat")  # the radii: the eikonal pass by default
     uv_up: EnumProperty(name="Up", items=UV_UP_ITEMS, default="VIEW",
                         description="Direction at the source that becomes +V (up in the image)")
     uv_up_vector: FloatVectorProperty(

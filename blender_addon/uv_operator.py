@@ -27,7 +27,7 @@ from .properties import SHAPE_ITEMS, SPACE_ITEMS, UVMapOptions, option_property
 from .uvmap import geodesic_uv_map
 
 #: Settings of the distance that the UV map shares (copied from the panel when not set).
-SHARED = ("space", "shape", "m", "accuracy", "boundary", "robust", "backend")
+SHARED = ("space", "shape", "m", "boundary", "robust", "backend")
 
 
 def view_up(context):
@@ -59,7 +59,6 @@ class MESH_OT_heat_geodesic_uv_map(UVMapOptions, bpy.types.Operator):
     space: EnumProperty(name="Space", items=SPACE_ITEMS, default="WORLD")
     shape: EnumProperty(name="Shape", items=SHAPE_ITEMS, default="EVALUATED")
     m: option_property("m")
-    accuracy: option_property("accuracy")
     boundary: option_property("boundary")
     robust: option_property("robust")
     backend: option_property("backend")
@@ -95,7 +94,7 @@ class MESH_OT_heat_geodesic_uv_map(UVMapOptions, bpy.types.Operator):
             result = geodesic_uv_map(
                 obj, None if self.vertex < 0 else self.vertex, name=self.uv_map, unit=self.uv_unit or None,
                 up=self.up_direction(context), space=self.space, shape=self.shape, m=self.m,
-                accuracy=self.accuracy, boundary=self.boundary, robust=self.robust, backend=self.backend,
+                accuracy=self.uv_accuracy, boundary=self.boundary, robust=self.robust, backend=self.backend,
             )
         except (AddonError, heatcore.HeatcoreError) as exc:
             self.report({"ERROR"}, str(exc))

@@ -171,10 +171,12 @@ def _solver(obj, V, topology, solver_options):
     given = {**mesh_options, **solver_options}
 
     def build():
-        # The distance's solver of this geometry, if cached, has the domain (and its scalar factorizations).
+        # The distance's solver of this geometry, if cached, has the domain (and its scalar factorizations):
+        # looked up with these options, and with the mesh's alone (a distance run with the default options).
         full = {**given, **{k: v for k, v in options.defaults("solver").items() if k not in given}}
+        keys = (given, full, mesh_options, {**mesh_options, **options.defaults("solver")})
         distance = next((found for found in (SOLVERS.lookup(obj.data.session_uid, geometry_key(V, topology, o, False))
-                                             for o in (given, full)) if found is not None), None)
+                                             for o in keys) if found is not None), None)
         if distance is not None:
             domain = distance.domain
         else:

@@ -182,7 +182,7 @@ class Option:
         return low_ok and (self.high is None or value <= self.high)
 
     def default_for(self, front_end):
-        """The default in ``front_end`` ("cli", "meshlab", "blender", ...).
+        """The default in ``front_end`` ("cli", "meshlab", "blender", "vector heat": the log map and its front ends).
 
         Examples
         --------
@@ -248,7 +248,7 @@ _OPTIONS = (
         "solver", choices=("smooth", "high"),
         choice_help=("The heat method: smooth distance, about 1-2% error",
                      "Heat method plus an ordered eikonal pass: about 0.1-0.3% error, slower"),
-        flag="--accuracy",
+        flag="--accuracy", front_end_defaults=(("vector heat", "high", "high: the log map's radius"),),
     ),
     Option(
         "backend", "linear-algebra backend", str, "auto", "none (a choice)",

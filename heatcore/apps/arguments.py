@@ -34,7 +34,7 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {short(message, 400)} (see '{self.prog} --help')\n")
 
 
-def add_solver_options(parser):
+def add_solver_options(parser, front_end="cli"):
     """Add ``--m``, ``--boundary``, ``--accuracy``, ``--no-robust``, ``--refine``, ``--weld-tolerance | --no-weld``.
 
     One argument group, "solver options"; each option's flag, type, range,
@@ -43,6 +43,8 @@ def add_solver_options(parser):
     Parameters
     ----------
     parser : argparse.ArgumentParser
+    front_end : str, default "cli"
+        Whose defaults (``"vector heat"``: ``heatcore logmap``'s).
 
     Examples
     --------
@@ -54,7 +56,7 @@ def add_solver_options(parser):
     """
     group = parser.add_argument_group("solver options")
     for name in SOLVER_OPTIONS:
-        options.add_argument(group, name)
+        options.add_argument(group, name, front_end=front_end)
 
 
 def solver_keywords(args):
@@ -304,8 +306,8 @@ def logmap_arguments(p):
     >>> p = _Parser(prog="heatcore logmap")
     >>> logmap_arguments(p)
     >>> args = p.parse_args(["spot.obj", "-s", "970", "--reference", "0", "1", "0", "-o", "uv.ply"])
-    >>> args.source, args.reference, args.output
-    (970, [0.0, 1.0, 0.0], ['uv.ply'])
+    >>> args.source, args.reference, args.output, args.accuracy
+    (970, [0.0, 1.0, 0.0], ['uv.ply'], 'high')
     """
     p.add_argument("mesh", type=Path, metavar="MESH", help="triangle mesh file (PLY, OBJ, OFF, STL, glTF, ...)")
     p.add_argument("-s", "--source", type=_vertex_index, required=True, metavar="INDEX",
@@ -320,5 +322,5 @@ def logmap_arguments(p):
                         "texture coordinates); repeat for several")
     p.add_argument("--overwrite", action="store_true", help="allow an output to replace the mesh file")
     add_output_options(p)
-    add_solver_options(p)
+    add_solver_options(p, front_end="vector heat")
     add_common_options(p)
