@@ -61,6 +61,7 @@ def compute_geodesic_distance(
     isoline_material=False,
     isoline_spacing=0.0,
     isoline_width=1.5,
+    polygons="AUTO",
     progress=None,
     **solver_options,
 ):
@@ -138,12 +139,18 @@ def compute_geodesic_distance(
     isoline_width : float
         Width of the material's isolines in screen pixels, at any zoom (a
         line is 0.7 to 1 times it wide, by its direction on screen).
+    polygons : {"AUTO", "TRIANGULATE"}
+        ``"AUTO"``: a mesh with quads or n-gons is measured as polygons
+        (:class:`heatcore.PolygonMesh`: more accurate than its loop
+        triangles; see :mod:`.polygons` for where triangles are kept);
+        ``"TRIANGULATE"``: always its loop triangles.
     progress : callable, optional
         ``progress(fraction, message)`` at each stage: reading the mesh, each
         stage of the solver build (heatcore's, see ``heatcore.progress``),
         solving, writing. It may raise to abort: nothing is written then.
     **solver_options
-        ``robust``, ``refine`` and ``weld`` go to :class:`heatcore.TriangleMesh`;
+        ``robust``, ``refine`` and ``weld`` go to :class:`heatcore.TriangleMesh`
+        (``refine`` only to a ``PolygonMesh``);
         all others (``m``, ``boundary``, ``accuracy``, ``backend``, ...) to
         :class:`heatcore.HeatSolver`. Options declared in ``heatcore.options``
         are checked there first. ``time_factor`` is a deprecated name of
@@ -168,7 +175,7 @@ def compute_geodesic_distance(
         attribute=attribute, color_attribute=color_attribute, colormap=colormap, isolines=isolines,
         normalize=normalize, weight_group=weight_group, weight_radius=weight_radius,
         weight_falloff=weight_falloff, weight_invert=weight_invert, isoline_material=isoline_material,
-        isoline_spacing=isoline_spacing, isoline_width=isoline_width, **solver_options,
+        isoline_spacing=isoline_spacing, isoline_width=isoline_width, polygons=polygons, **solver_options,
     )
     for note in run.notes:
         warnings.warn(note, stacklevel=2)

@@ -93,7 +93,7 @@ class VIEW3D_PT_heat_geodesic_advanced(bpy.types.Panel):
     bl_options = {"DEFAULT_CLOSED"}
 
     #: The settings shown here, in order.
-    PROPERTIES = ("boundary", "robust", "backend")
+    PROPERTIES = ("boundary", "robust", "backend", "polygons")
 
     def draw(self, context):
         layout = self.layout

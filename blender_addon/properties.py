@@ -51,6 +51,12 @@ SHAPE_ITEMS = [
     ("BASIS", "Mesh Data", "The mesh as stored, without shape keys or modifiers"),
 ]
 
+POLYGON_ITEMS = [
+    ("AUTO", "Keep Polygons", ("Measure quads and n-gons as polygons (heatcore's PolygonMesh, more accurate than "
+                               "their triangles); triangle meshes, High accuracy and Robust off use the loop triangles")),
+    ("TRIANGULATE", "Triangulate", "Always measure the mesh's loop triangles"),
+]
+
 SOURCE_ITEMS = [
     ("SELECTED", "Selected Vertices", "Use the selected vertices as sources"),
     ("VERTEX_GROUP", "Vertex Group", "Use the members of a vertex group as sources"),
@@ -107,6 +113,7 @@ class GeodesicOptions:
     accuracy: option_property("accuracy")
     robust: option_property("robust")
     backend: option_property("backend")
+    polygons: EnumProperty(name="Polygons", items=POLYGON_ITEMS, default="AUTO")
     attribute: StringProperty(
         name="Attribute", description="FLOAT point attribute that receives the distance", default=DEFAULT_ATTRIBUTE
     )
@@ -185,6 +192,7 @@ class GeodesicOptions:
             isoline_material=self.isoline_material,
             isoline_spacing=self.isoline_spacing,
             isoline_width=self.isoline_width,
+            polygons=self.polygons,
             **self.solver_options(),
         )
 

@@ -33,6 +33,7 @@ from ._heatcore import heatcore
 from .adapters import AddonError
 from .cache import SOLVERS, geometry_key, same_key
 from .outputs import OUTPUT_NAMES, check_outputs, write_outputs
+from .polygons import polygon_arrays, polygon_domain, use_polygons
 from .shape import COPY_MARKER, evaluated_copy, measured_positions, nearest_vertices
 
 #: ``heatcore.options``: every option's name, range, default and help (the bundled copy's).
@@ -99,7 +100,8 @@ class PreparedRun:
     from the cache (``cached``) or from :func:`build_solver`; ``outputs`` are
     the keywords of :func:`~.outputs.write_outputs`; ``F`` the triangles,
     read only when the solver is to be built (None when it came from the
-    cache); ``notes`` the warnings
+    cache), and ``polygons`` the faces as ``(offsets, indices)`` when the
+    mesh is measured as polygons (:mod:`.polygons`); ``notes`` the warnings
     for the user; ``start`` is the ``time.perf_counter()`` of the click. With
     ``new_object``, ``V`` and ``F`` are the evaluated mesh's (every modifier
     applied) and ``sources`` the positions of the source vertices as
@@ -125,6 +127,7 @@ class PreparedRun:
     start: float
     notes: list
     new_object: bool = False
+    polygons: object = None
     solver: object = None
     cached: bool = False
     solver_seconds: float = 0.0
@@ -232,7 +235,7 @@ def read_triangles(obj, topology, new_object=False):
 
 
 def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="EVALUATED", new_object=False,
-                progress=None, sources_later=False, **run_options):
+                progress=None, sources_later=False, polygons="AUTO", **run_options):
     """Stage 1 (main thread): check everything, read the mesh and the sources, look up the cached solver.
 
     Takes the arguments of :func:`~.api.compute_geodesic_distance`: the output
@@ -241,7 +244,9 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
     (other geometry or options) is dropped. The warnings for the user are
     in ``notes`` (the caller issues them). ``sources_later=True`` reads no
     sources (``run.sources`` is empty): the caller places them afterwards
-    (the probe's points on faces, :mod:`.probe`).
+    (the probe's points on faces, :mod:`.probe`) and measures loop
+    triangles. ``polygons``: :mod:`.polygons` (``"AUTO"``: a mesh with
+    n-gons is measured as polygons).
 
     Returns
     -------
@@ -276,21 +281,26 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
                      f"({', '.join(skipped)}), on the deformed cage of its own vertices")
 
     mesh_options = {k: solver_options.pop(k, default) for k, default in MESH_OPTIONS.items()}
+    as_polygons = use_polygons(polygons, mesh, solver_options, mesh_options, points_later=sources_later,
+                               new_object=new_object)
     if not topology[0].size:  # no face corners (no triangles): a point cloud takes refine only
         mesh_options = {"refine": mesh_options["refine"]}
-    key = geometry_key(V, topology, {**mesh_options, **solver_options}, copy=False)
+    domain_options = {**mesh_options, **solver_options, **({"polygons": True} if as_polygons else {})}
+    key = geometry_key(V, topology, domain_options, copy=False)
     run = PreparedRun(
         object_name=obj.name, object_uid=obj.session_uid, mesh_uid=mesh.session_uid, V=V, F=None, sources=src,
         skipped_modifiers=skipped, space=space, shape=shape, mesh_options=mesh_options,
         solver_options=solver_options, outputs=outputs, key=key, start=start, notes=notes, new_object=new_object,
-        cache_id=(COPY_MARKER, obj.session_uid) if new_object else mesh.session_uid,
+        cache_id=(COPY_MARKER, obj.session_uid) if new_object else ("polygons", mesh.session_uid) if as_polygons
+        else mesh.session_uid,  # a mesh's polygon and triangle solvers are kept side by side
     )
     run.solver = SOLVERS.lookup(run.cache_id, key)
     run.cached = run.solver is not None
     if not run.cached:
         SOLVERS.discard(run.cache_id)  # free the stale solver before building
-        run.F = read_triangles(obj, topology, new_object)
-        run.key = geometry_key(V, topology, {**mesh_options, **solver_options})  # kept with the solver: copied
+        run.F = read_triangles(obj, topology, new_object)  # also for polygons: exact duplicates are welded as triangles
+        run.polygons = polygon_arrays(mesh) if as_polygons else None
+        run.key = geometry_key(V, topology, domain_options)  # kept with the solver: copied
     return run
 
 
@@ -304,9 +314,10 @@ def build_solver(run, progress=None):
     report = Progress(progress).part(*BUILD_RANGE)
     report(0.0, f"building the heat solver for {len(run.V):,} vertices")
     t0 = time.perf_counter()
-    if run.F.shape[0]:
+    domain = None if run.polygons is None else polygon_domain(run.V, run.polygons, run.mesh_options)  # as they are
+    if domain is None and run.F.shape[0]:
         domain = heatcore.TriangleMesh(run.V, run.F, **run.mesh_options, progress=report.part(0.0, DOMAIN_SHARE))
-    else:  # vertices only: a point cloud
+    elif domain is None:  # vertices only: a point cloud
         domain = heatcore.PointCloud(run.V, **run.mesh_options)
     solver = heatcore.HeatSolver(domain, **run.solver_options, progress=report.part(DOMAIN_SHARE, 1.0))
     run.solver_seconds = time.perf_counter() - t0

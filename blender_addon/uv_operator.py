@@ -3,9 +3,9 @@
 The button, the menu entries and ``bpy.ops`` run :func:`~.uvmap.geodesic_uv_map`
 on the active mesh object, from its active vertex in Edit Mode (or the
 ``vertex`` given), as one undo step. Options not set by the caller come from
-the panel (the scene settings): the UV options of the *UV Map* sub-panel, and
-*Space*, *Shape*, *Time Factor*, *Accuracy* and the *Advanced* solver settings
-of the distance. *Up: View Up* takes the 3D View's up direction when the
+the panel (the scene settings): the UV options of the *UV Map* sub-panel (its
+own *Accuracy*, High by default), and *Space*, *Shape*, *Time Factor* and the
+*Advanced* solver settings of the distance. *Up: View Up* takes the 3D View's up direction when the
 operator is invoked there; from a script or without a 3D View, the *Up Vector*
 (with a warning).
 

@@ -144,9 +144,14 @@ def run(obj, **options):
 
 
 def reference(obj, sources, m=1.0, boundary="robin", robust=True):
-    """heatcore on the same geometry, called directly."""
-    V, F = coords(obj.data), loop_triangles(obj.data)
-    return hc.HeatSolver(hc.TriangleMesh(V, F, robust=robust), m=m, boundary=boundary).distance(sources)
+    """heatcore on the same geometry, called directly: its faces as polygons if it has quads or n-gons
+    (the add-on's default, ``polygons="AUTO"``, with robust operators), else its loop triangles."""
+    V = coords(obj.data)
+    if robust and any(len(p.vertices) > 3 for p in obj.data.polygons):
+        domain = hc.PolygonMesh(V, [list(p.vertices) for p in obj.data.polygons])
+    else:
+        domain = hc.TriangleMesh(V, loop_triangles(obj.data), robust=robust)
+    return hc.HeatSolver(domain, m=m, boundary=boundary).distance(sources)
 
 
 def great_circle(V, source, radius):

@@ -254,7 +254,7 @@ def test_advanced_subpanel_is_closed_and_holds_the_solver_jargon(addon):
     assert advanced.bl_options == {"DEFAULT_CLOSED"}
     assert advanced.bl_category == "Geodesic" and advanced.bl_region_type == "UI"
     labels = drawn_properties(addon)
-    assert {n for n, label in labels.items() if label.startswith("Advanced")} == {"boundary", "robust", "backend"}
+    assert {n for n, label in labels.items() if label.startswith("Advanced")} == {"boundary", "robust", "backend", "polygons"}
     assert not labels["m"].startswith("Advanced") and not labels["accuracy"].startswith("Advanced")
     # Every option of the operator is in one of the two panels.
     assert set(labels) == set(addon.properties.GeodesicOptions.__annotations__)
