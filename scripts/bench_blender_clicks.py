@@ -20,6 +20,7 @@ Examples
     python scripts/bench_blender_clicks.py --mesh ../shared/meshes/nefertiti.obj --clicks 5
     python scripts/bench_blender_clicks.py --no-weights      # distance and colors only
     python scripts/bench_blender_clicks.py --edit-mode       # clicks made in Edit Mode
+    python scripts/bench_blender_clicks.py --polygons TRIANGULATE   # quads measured as loop triangles
 """
 
 import argparse
@@ -177,8 +178,12 @@ def click(obj, vertex, write_weights):
         obj.data.vertices.foreach_set("select", select)
         obj.data.update()
     start = time.perf_counter()
-    bpy.ops.mesh.heat_geodesic_distance(isolines=10, write_weights=write_weights)
+    bpy.ops.mesh.heat_geodesic_distance(isolines=10, write_weights=write_weights, polygons=POLYGONS[0])
     return time.perf_counter() - start
+
+
+#: The operator's ``polygons`` option for every click (``--polygons``).
+POLYGONS = ["AUTO"]
 
 
 def bench(addon, stages, spec, clicks, write_weights, rng, edit_mode=False):
@@ -241,7 +246,10 @@ def main(argv=None):
     parser.add_argument("--no-weights", dest="weights", action="store_false", help="no weight-group output")
     parser.add_argument("--edit-mode", action="store_true", help="click in Edit Mode (default: Object Mode)")
     parser.add_argument("--markdown", help="also write the tables to this file")
+    parser.add_argument("--polygons", choices=("AUTO", "TRIANGULATE"), default="AUTO",
+                        help="the operator's Polygons option (AUTO: quad meshes measured as polygons)")
     args = parser.parse_args(argv)
+    POLYGONS[0] = args.polygons
 
     addon = load_addon()
     stages = Stages(addon)

@@ -155,10 +155,10 @@ def _plane_coordinates(P):
     """Corners ``(p, k, 3)`` projected along each polygon's normal, ``(p, k, 2)``."""
     centered = P - P.mean(axis=1, keepdims=True)
     normal = 0.5 * np.cross(centered, np.roll(centered, -1, axis=1)).sum(axis=1)  # vector area
-    _, _, directions = np.linalg.svd(centered, full_matrices=False)
     spread = (centered**2).sum(axis=(1, 2))
-    weak = np.linalg.norm(normal, axis=1) <= 1e-3 * spread  # a bowtie's areas cancel
-    normal[weak] = directions[weak, 2]
+    weak = np.linalg.norm(normal, axis=1) <= 1e-3 * spread  # a bowtie's areas cancel: the least-spread direction
+    if weak.any():
+        normal[weak] = np.linalg.svd(centered[weak], full_matrices=False)[2][:, 2]
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
     helper = np.where(np.abs(normal[:, :1]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])
     u = np.cross(normal, helper)
