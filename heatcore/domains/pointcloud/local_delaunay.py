@@ -25,6 +25,8 @@ MAX_SLOPE = 0.6
 #: Triangles whose doubled area is below this fraction of their longest
 #: squared side (all angles nearly 0 or pi) are left out.
 MIN_SINE = 1e-6
+#: A neighbor is reflex (dropped from the hull) up to this relative rounding of its turn.
+REFLEX_TOLERANCE = 1e-12
 
 
 def local_delaunay_triangles(P, normals, nbr):
@@ -70,29 +72,13 @@ def local_delaunay_triangles(P, normals, nbr):
     order = np.argsort(ang, axis=1)
     take = lambda A: np.take_along_axis(A, order, axis=1)
     ux, uy, ang, nb, alive = take(ux), take(uy), take(ang), take(nbr), take(valid)
-    rows = np.arange(n)[:, None]
     col = np.arange(k)[None, :]
-    tol = 1e-12
-    while True:
-        # compact the alive neighbors to the front, in angular order
-        pos = np.argsort(~alive, axis=1, kind="stable")
-        ux, uy, ang, nb, alive = (np.take_along_axis(A, pos, axis=1) for A in (ux, uy, ang, nb, alive))
-        c = alive.sum(axis=1)[:, None]
-        cc = np.maximum(c, 1)
-        nxt = (col + 1) % cc
-        prv = (col - 1) % cc
-        wedge_next = np.mod(ang[rows, nxt] - ang, 2 * np.pi)
-        wedge_prev = np.mod(ang - ang[rows, prv], 2 * np.pi)
-        wedge_next = np.where(c == 1, 2 * np.pi, wedge_next)
-        wedge_prev = np.where(c == 1, 2 * np.pi, wedge_prev)
-        ax, ay = ux[rows, prv], uy[rows, prv]
-        bx, by = ux[rows, nxt], uy[rows, nxt]
-        cross = (bx - ax) * (uy - ay) - (by - ay) * (ux - ax)
-        scale = (bx - ax) ** 2 + (by - ay) ** 2 + (ux - ax) ** 2 + (uy - ay) ** 2
-        reflex = alive & (c >= 3) & (wedge_prev + wedge_next < np.pi) & (cross >= -tol * scale)
-        if not reflex.any():
-            break
-        alive &= ~reflex
+    active = np.arange(n)  # rows that may still have reflex neighbors: later rounds touch only these
+    while active.size:
+        A = _without_reflex_round(ux[active], uy[active], ang[active], nb[active], alive[active], col)
+        ux[active], uy[active], ang[active], nb[active], alive[active], changed = A
+        active = active[changed]
+    rows = np.arange(n)[:, None]
     c = alive.sum(axis=1)[:, None]
     nxt = (col + 1) % np.maximum(c, 1)
     wedge = np.mod(ang[rows, nxt] - ang, 2 * np.pi)
@@ -107,8 +93,31 @@ def local_delaunay_triangles(P, normals, nbr):
     l2 = np.stack([((P[T[:, a]] - P[T[:, b]]) ** 2).sum(axis=1) for a, b in ((0, 1), (1, 2), (2, 0))], axis=1)
     doubled_area = np.linalg.norm(np.cross(P[T[:, 1]] - P[T[:, 0]], P[T[:, 2]] - P[T[:, 0]]), axis=1)
     T = T[doubled_area > MIN_SINE * l2.max(axis=1)]
-    if T.size:
-        T, votes = np.unique(T, axis=0, return_counts=True)
-    else:
-        T, votes = T.reshape(0, 3), np.zeros(0, dtype=np.int64)
-    return T.astype(np.int64), votes, boundary
+    if n > 2_000_000:  # one integer per triple would overflow
+        T, votes = np.unique(T.reshape(-1, 3), axis=0, return_counts=True)
+        return T.astype(np.int64), votes, boundary
+    key = (T[:, 0] * n + T[:, 1]) * n + T[:, 2]  # sorted triples as one integer, in the same order
+    _, first, votes = np.unique(key, return_index=True, return_counts=True)
+    return T[first].astype(np.int64), votes, boundary
+
+
+def _without_reflex_round(ux, uy, ang, nb, alive, col):
+    """One round of removing reflex vertices from the rows' angular fans (the alive ones compacted first).
+
+    Returns the rows' compacted arrays and which rows lost a vertex this round.
+    """
+    pos = np.argsort(~alive, axis=1, kind="stable")  # the alive neighbors to the front, in angular order
+    ux, uy, ang, nb, alive = (np.take_along_axis(A, pos, axis=1) for A in (ux, uy, ang, nb, alive))
+    rows = np.arange(ux.shape[0])[:, None]
+    c = alive.sum(axis=1)[:, None]
+    cc = np.maximum(c, 1)
+    nxt = (col + 1) % cc
+    prv = (col - 1) % cc
+    wedge_next = np.where(c == 1, 2 * np.pi, np.mod(ang[rows, nxt] - ang, 2 * np.pi))
+    wedge_prev = np.where(c == 1, 2 * np.pi, np.mod(ang - ang[rows, prv], 2 * np.pi))
+    ax, ay = ux[rows, prv], uy[rows, prv]
+    bx, by = ux[rows, nxt], uy[rows, nxt]
+    cross = (bx - ax) * (uy - ay) - (by - ay) * (ux - ax)
+    scale = (bx - ax) ** 2 + (by - ay) ** 2 + (ux - ax) ** 2 + (uy - ay) ** 2
+    reflex = alive & (c >= 3) & (wedge_prev + wedge_next < np.pi) & (cross >= -REFLEX_TOLERANCE * scale)
+    return ux, uy, ang, nb, alive & ~reflex, reflex.any(axis=1)

@@ -95,7 +95,7 @@ def nearest_neighbors(P, k):
     >>> nbr[0].tolist(), int((nbr[8] >= 0).sum())  # the far point has no neighbor
     ([1, 2, 3, 4, 5, 6], 0)
     """
-    dist, idx = cKDTree(P).query(P, k + 1)
+    dist, idx = cKDTree(P).query(P, k + 1, workers=-1)  # every core: the same result
     dist, idx = dist[:, 1:], idx[:, 1:]
     spacing = dist[:, min(SPACING_RANK, k) - 1]
     far = dist > MAX_NEIGHBOR_RATIO * np.minimum(spacing[:, None], spacing[idx])
