@@ -1,7 +1,7 @@
 """Heat from sources on the boundary: a Robin condition, shaped by the source, that keeps their heat.
 
-The solver's default boundary condition is the mean of the Neumann and the
-Dirichlet heat (:mod:`heatcore.heat`). Heat injected at a boundary vertex is
+The default boundary condition is the mean of the Neumann and the
+Dirichlet heat (:mod:`heatcore.steps.heat_flow`). Heat injected at a boundary vertex is
 all lost by the Dirichlet solve (the boundary is held at 0), so for a source
 on the boundary that mean falls back to pure Neumann heat, whose gradient runs
 along every wall, also along walls the distance leaves at an angle: the
