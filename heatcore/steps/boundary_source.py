@@ -61,8 +61,9 @@ ROBIN_COEFFICIENT = 0.75
 #: fraction in an iteration (the heat falls by orders of magnitude across the
 #: mesh, and the unit field needs its direction everywhere: a residual norm would
 #: stop before the far heat is right), or after :data:`ROBIN_MAX_ITERATIONS`
-#: (measured: the distance's error settles after 4 iterations; 6 cost about 3x
-#: the query of an interior source on a 9k-vertex cube, 60 ms against 18).
+#: (measured: the distance's error settles after 3-4 iterations). A boundary
+#: source's query then costs 5 Neumann solves instead of one Neumann and one
+#: Dirichlet solve: 2-4x an interior source's query (docs/tet.md).
 ROBIN_TOLERANCE = 1e-2
 ROBIN_MAX_ITERATIONS = 4
 
@@ -138,8 +139,8 @@ class BoundarySourceHeat:
                 break
             alpha = rz / curvature
             u += alpha * p
-            if np.all(np.abs(alpha * p) <= ROBIN_TOLERANCE * np.abs(u)):
-                break
+            if self.iterations == ROBIN_MAX_ITERATIONS or np.all(np.abs(alpha * p) <= ROBIN_TOLERANCE * np.abs(u)):
+                break  # (no solve for a direction that would not be used)
             r -= alpha * Ap
             z = solve_columns(self._neumann, r)
             rz, previous = float(r @ z), rz
