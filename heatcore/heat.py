@@ -48,6 +48,7 @@ from .options import check
 from .paths.queries import PathQueries
 from .progress import Progress
 from .steps.blocks import block_columns, source_sequence
+from .steps.boundary_source import BoundarySourceHeat
 from .steps.heat_flow import HeatFlow
 from .steps.poisson import MAX_PRECOMPUTED_PINS, PinnedPoisson, grounded
 from .steps.time_step import underflow_safe_m
@@ -379,7 +380,8 @@ class HeatSolver(VoronoiQueries, PathQueries):
         # Neumann: the condition itself, half of Robin, or the fallback where Dirichlet sees no heat.
         progress(0.0 if dirichlet is None else 0.5, "factoring the heat matrix")
         neumann = factor(heat_matrix, backend, ordering=self._ordering(backend))
-        self.heat_flow = HeatFlow(neumann, dirichlet, interior, self.boundary, self.component, self.n_components)
+        self.heat_flow = HeatFlow(neumann, dirichlet, interior, self.boundary, self.component, self.n_components,
+                                  BoundarySourceHeat(ops, self._laplacian, step, neumann))
 
     def _resolve(self, backend, prefer):
         """The backend that ``backend`` stands for on this domain's matrices."""

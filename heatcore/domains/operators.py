@@ -40,6 +40,9 @@ class Operators:
         units of ``2**unit_exponent`` input units (see :mod:`heatcore.domains.parts`),
         so a distance ``d`` on them is ``np.ldexp(d, unit_exponent)`` in the
         input's units. 0 for domains built in the input's units.
+    boundary_surface : BoundarySurface or None
+        The boundary as outward-wound triangles, where the domain gives it
+        (tet meshes): sources on it get Robin heat (:mod:`heatcore.steps.boundary_source`).
 
     Examples
     --------
@@ -60,6 +63,7 @@ class Operators:
     elements: np.ndarray
     mean_edge_length: object
     unit_exponent: object = 0
+    boundary_surface: object = None
 
     @property
     def n_vertices(self):
@@ -79,6 +83,35 @@ class Operators:
         """
         weighted = (field * self.volumes[:, None]).ravel()
         return -(self.gradient.T @ weighted)
+
+
+@dataclass
+class BoundarySurface:
+    """The boundary of a volume domain: triangles wound outward, on the operators' vertices.
+
+    Attributes
+    ----------
+    positions : (n, 3) float array
+        Positions of the operator vertices, in the operators' units.
+    faces : (k, 3) int array
+        Boundary triangles (operator vertex indices), normals pointing out of the domain.
+    area_vectors : (k, 3) float array
+        Outward normal times area of each triangle (computed).
+
+    Examples
+    --------
+    >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+    >>> BoundarySurface(V, np.array([[0, 2, 1]])).area_vectors.tolist()
+    [[0.0, 0.0, -0.5]]
+    """
+
+    positions: np.ndarray
+    faces: np.ndarray
+    area_vectors: np.ndarray = None
+
+    def __post_init__(self):
+        P = self.positions[self.faces]
+        self.area_vectors = 0.5 * np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0])
 
 
 def laplacian_from_weights(a, b, w, n):

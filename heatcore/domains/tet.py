@@ -179,7 +179,9 @@ class TetMesh(MeshDomain):
         boundary[on_surface[on_surface >= 0]] = True
         self._positions = self.vertices[used]
         self._incidence = None
-        self.operators = tet_operators(self._positions, self.vertex_map[oriented[kept]], boundary)
+        faces = self.vertex_map[self.boundary_faces]
+        faces = faces[(faces >= 0).all(axis=1)]  # faces of flat tets' own vertices are no surface
+        self.operators = tet_operators(self._positions, self.vertex_map[oriented[kept]], boundary, faces)
 
     def _pin_vertices(self, vertices, pins):
         """Source vertices, interior or on the boundary (distance 0); with ``pin_neighbors``, their tets' vertices too."""

@@ -19,7 +19,7 @@ True
 import numpy as np
 import scipy.sparse as sp
 
-from .operators import Operators, laplacian_from_weights
+from .operators import BoundarySurface, Operators, laplacian_from_weights
 from .parts import part_means, vertex_components
 
 #: Face opposite each corner of a positively oriented tet, wound so that its
@@ -175,7 +175,7 @@ def tet_gradient(V, T):
     return sp.csr_matrix((grad_hat.ravel(), (rows.ravel(), cols.ravel())), shape=(3 * m, V.shape[0]))
 
 
-def tet_operators(V, T, boundary):
+def tet_operators(V, T, boundary, faces=None):
     """Operator bundle of a tet mesh.
 
     Parameters
@@ -183,6 +183,9 @@ def tet_operators(V, T, boundary):
     V : (n, 3) float array
     T : (m, 4) int array, positively oriented, non-flat tets using every vertex
     boundary : (n,) bool array, vertices on the boundary surface
+    faces : (k, 3) int array, optional
+        The boundary surface, wound outward; kept as the bundle's
+        ``boundary_surface`` (the Robin heat of sources on the boundary).
 
     Returns
     -------
@@ -204,7 +207,8 @@ def tet_operators(V, T, boundary):
     count, part = vertex_components(T, n)
     lengths = np.linalg.norm(V[edges[:, 0]] - V[edges[:, 1]], axis=1)
     h = part_means(lengths, part[edges[:, 0]], count)[part]  # each part its own time step
-    return Operators(cotan_laplacian(V, T), mass, tet_gradient(V, T), vol, 3, boundary, T, h)
+    surface = None if faces is None else BoundarySurface(V, faces)
+    return Operators(cotan_laplacian(V, T), mass, tet_gradient(V, T), vol, 3, boundary, T, h, 0, surface)
 
 
 def _face_area_vectors(P):

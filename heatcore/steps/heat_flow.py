@@ -2,7 +2,10 @@
 
 :class:`HeatFlow` holds the factorizations of the heat matrix for the
 solver's boundary condition (Neumann; Dirichlet on the interior vertices; Robin
-as the mean of the two) and solves for any impulse.
+as the mean of the two) and solves for any impulse. Under the Robin condition,
+heat that lies all on the boundary (the Dirichlet solve sees none of it) takes
+the Robin heat of :mod:`heatcore.steps.boundary_source` where the domain gives a
+boundary surface (tet meshes), else the Neumann heat.
 
 Examples
 --------
@@ -36,6 +39,8 @@ class HeatFlow:
     component : (n,) int array
         Connected component of each vertex.
     n_components : int
+    boundary_source : BoundarySourceHeat, optional
+        The heat of sources on the boundary under the Robin condition (default: the Neumann heat).
 
     Examples
     --------
@@ -45,17 +50,18 @@ class HeatFlow:
     ('neumann', True)
     """
 
-    def __init__(self, neumann, dirichlet, interior, boundary, component, n_components):
+    def __init__(self, neumann, dirichlet, interior, boundary, component, n_components, boundary_source=None):
         self.neumann = neumann
         self.dirichlet = dirichlet
         self.interior = interior
         self.boundary = boundary
         self.component = component
         self.n_components = n_components
+        self.boundary_source = boundary_source
 
     def solve(self, impulse):
         """Heat after one step from ``impulse`` ((n,), or (n, k): k columns at once)."""
-        return self._combine(*self._parts(impulse))
+        return self._combine(*self._parts(impulse), impulse)
 
     def _parts(self, impulse):
         """The Neumann heat, and the Dirichlet heat (0 on the boundary; None under the Neumann condition)."""
@@ -63,19 +69,20 @@ class HeatFlow:
         if self.boundary == "neumann":
             return u_neumann, None
         u_dirichlet = np.zeros_like(impulse)
-        if self.dirichlet is not None:
+        if self.dirichlet is not None and impulse[self.interior].any():  # else all heat is on the boundary
             u_dirichlet[self.interior] = solve_columns(self.dirichlet, impulse[self.interior])
         return u_neumann, u_dirichlet
 
-    def _combine(self, u_neumann, u_dirichlet):
+    def _combine(self, u_neumann, u_dirichlet, impulse):
         """The heat of the boundary condition from its parts (see :meth:`_parts`)."""
         if u_dirichlet is None:
             return u_neumann
-        # A component whose heat all sits on the boundary gets none under
-        # Dirichlet conditions: use the Neumann solution there.
-        cold = component_sums(self.component, np.abs(u_dirichlet), self.n_components) == 0
+        # A component whose heat all sits on the boundary gets none under Dirichlet conditions: use
+        # the Neumann solution there, or under Robin the Robin heat of steps.boundary_source.
+        fallback = (component_sums(self.component, np.abs(u_dirichlet), self.n_components) == 0)[self.component]
         u = 0.5 * (u_dirichlet + u_neumann) if self.boundary == "robin" else u_dirichlet
-        fallback = cold[self.component]
+        if self.boundary == "robin" and self.boundary_source is not None:
+            u_neumann = self.boundary_source.heat(impulse, u_neumann, fallback)
         u[fallback] = u_neumann[fallback]
         return u
 
