@@ -180,5 +180,8 @@ def compute_geodesic_distance(
     for note in run.notes:
         warnings.warn(note, stacklevel=2)
     if run.solver is None:
+        known = len(run.notes)
         build_solver(run, progress)
+        for note in run.notes[known:]:  # from the build: polygons measured as triangles
+            warnings.warn(note, stacklevel=2)
     return finish_run(run, progress, obj)

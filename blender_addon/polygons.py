@@ -84,8 +84,29 @@ def use_polygons(choice, mesh, solver_options, mesh_options, *, points_later=Fal
     return has_ngons(mesh)
 
 
-def polygon_domain(V, polygons, mesh_options):
+def key_options(mesh_options, solver_options, as_polygons):
+    """The options part of a run's cache key: every option, and ``polygons=True`` for a polygon run.
+
+    :func:`~.stages.prepare_run` keys the solver with it and
+    :func:`~.stages.check_unchanged` compares with it after a background
+    build: both must use this.
+
+    Examples
+    --------
+    >>> key_options({"refine": "auto"}, {"m": 1.0}, True)
+    {'refine': 'auto', 'm': 1.0, 'polygons': True}
+    >>> key_options({"refine": "auto"}, {"m": 1.0}, False)
+    {'refine': 'auto', 'm': 1.0}
+    """
+    return {**mesh_options, **solver_options, **({"polygons": True} if as_polygons else {})}
+
+
+def polygon_domain(V, polygons, mesh_options, notes=None):
     """``heatcore.PolygonMesh`` of the faces, or None where ``weld=0`` has vertices to merge (exact duplicates).
+
+    Polygons whose sides cross (a bowtie) are measured as their fan
+    triangles. Either case appends a note for the user to ``notes``: the
+    build may run in a worker thread, where a warning would reach no one.
 
     Parameters
     ----------
@@ -93,6 +114,7 @@ def polygon_domain(V, polygons, mesh_options):
     polygons : (offsets, indices)
     mesh_options : dict
         The run's ``robust``, ``refine``, ``weld``; ``refine`` goes to the PolygonMesh.
+    notes : list of str, optional
 
     Examples
     --------
@@ -102,8 +124,20 @@ def polygon_domain(V, polygons, mesh_options):
     >>> polygon_domain(V[[0, 1, 2, 2]], (np.array([0, 4]), np.arange(4)), {"refine": 0, "weld": 0.0}) is None  # doctest: +SKIP
     True
     """
-    if mesh_options.get("weld") is not None and len(np.unique(V, axis=0)) < len(V):
-        return None
+    notes = [] if notes is None else notes
+    if mesh_options.get("weld") is not None:
+        merged = len(V) - len(np.unique(V, axis=0))
+        if merged:
+            notes.append(f"measured as triangles, not polygons: {merged:,} vertices share their position with "
+                         "another and are welded (polygons are not; weld=None keeps them apart)")
+            return None
+    try:
+        return heatcore.PolygonMesh(V, polygons, refine=mesh_options["refine"])
+    except heatcore.InvalidMeshError as exc:  # checked before any refinement: a cheap first try
+        if "cross themselves" not in str(exc):
+            raise
+        notes.append(str(exc).split("; polygon ")[0].replace("polygon(s)", "face(s)")
+                     + ": measured as their fan triangles (fix them in Edit Mode to measure them as polygons)")
     return heatcore.PolygonMesh(V, polygons, refine=mesh_options["refine"], split_crossing=True)
 
 

@@ -33,7 +33,7 @@ from ._heatcore import heatcore
 from .adapters import AddonError
 from .cache import SOLVERS, geometry_key, same_key
 from .outputs import OUTPUT_NAMES, check_outputs, write_outputs
-from .polygons import polygon_arrays, polygon_domain, use_polygons
+from .polygons import key_options, polygon_arrays, polygon_domain, use_polygons
 from .shape import COPY_MARKER, evaluated_copy, measured_positions, nearest_vertices
 
 #: ``heatcore.options``: every option's name, range, default and help (the bundled copy's).
@@ -128,6 +128,7 @@ class PreparedRun:
     notes: list
     new_object: bool = False
     polygons: object = None
+    as_polygons: bool = False
     solver: object = None
     cached: bool = False
     solver_seconds: float = 0.0
@@ -285,14 +286,14 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
                                new_object=new_object)
     if not topology[0].size:  # no face corners (no triangles): a point cloud takes refine only
         mesh_options = {"refine": mesh_options["refine"]}
-    domain_options = {**mesh_options, **solver_options, **({"polygons": True} if as_polygons else {})}
+    domain_options = key_options(mesh_options, solver_options, as_polygons)
     key = geometry_key(V, topology, domain_options, copy=False)
     run = PreparedRun(
         object_name=obj.name, object_uid=obj.session_uid, mesh_uid=mesh.session_uid, V=V, F=None, sources=src,
         skipped_modifiers=skipped, space=space, shape=shape, mesh_options=mesh_options,
         solver_options=solver_options, outputs=outputs, key=key, start=start, notes=notes, new_object=new_object,
         cache_id=(COPY_MARKER, obj.session_uid) if new_object else ("polygons", mesh.session_uid) if as_polygons
-        else mesh.session_uid,  # a mesh's polygon and triangle solvers are kept side by side
+        else mesh.session_uid, as_polygons=as_polygons,  # a mesh's polygon and triangle solvers: side by side
     )
     run.solver = SOLVERS.lookup(run.cache_id, key)
     run.cached = run.solver is not None
@@ -310,11 +311,12 @@ def build_solver(run, progress=None):
     ``progress(fraction, message)`` gets heatcore's build stages mapped onto
     ``BUILD_RANGE``; when it raises (a cancel), the exception propagates and
     ``run.solver`` stays None. The cache is not touched (:func:`finish_run` fills it).
+    What the user should know about the polygons (measured as triangles) is appended to ``run.notes``.
     """
     report = Progress(progress).part(*BUILD_RANGE)
     report(0.0, f"building the heat solver for {len(run.V):,} vertices")
     t0 = time.perf_counter()
-    domain = None if run.polygons is None else polygon_domain(run.V, run.polygons, run.mesh_options)  # as they are
+    domain = None if run.polygons is None else polygon_domain(run.V, run.polygons, run.mesh_options, run.notes)
     if domain is None and run.F.shape[0]:
         domain = heatcore.TriangleMesh(run.V, run.F, **run.mesh_options, progress=report.part(0.0, DOMAIN_SHARE))
     elif domain is None:  # vertices only: a point cloud
@@ -350,7 +352,8 @@ def check_unchanged(run):
     if obj is None:
         raise AddonError(f"{run.object_name!r} was deleted while its solver was being built; nothing was written")
     V, topology, _ = read_geometry(obj, run.space, run.shape, run.new_object)
-    if not same_key(run.key, geometry_key(V, topology, {**run.mesh_options, **run.solver_options}, copy=False)):
+    options = key_options(run.mesh_options, run.solver_options, run.as_polygons)  # as prepare_run's key
+    if not same_key(run.key, geometry_key(V, topology, options, copy=False)):
         raise AddonError(
             f"{obj.name!r} changed while its solver was being built (its shape or its vertices); "
             "nothing was written: run it again"

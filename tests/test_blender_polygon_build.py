@@ -1,0 +1,99 @@
+"""Quads measured as polygons: the solver built in the background (the button's path), and the notes of its build (issue 22).
+
+The operator, invoked from a window, builds the solver in a worker thread and
+checks, before writing, that the object still has the geometry and options
+the solver was built for (``stages.check_unchanged``). A mesh measured as
+polygons must pass that check (its cache key holds the domain kind) and get
+the same distance as the script API. What the build has to tell the user (a
+bowtie measured as its fan triangles; coincident vertices welded, so the mesh
+measured as triangles) is a note of the run: raised in the worker thread as a
+warning, it would reach no one; as a note it is in the operator's report and
+the script API's warnings.
+"""
+
+import importlib
+
+import bpy
+import numpy as np
+import pytest
+from test_blender import addon, attribute, empty_scene, select_only  # noqa: F401 (fixtures)
+from test_blender_modal import RecordingDisplay, drive
+
+import heatcore as hc
+
+
+def modules():
+    return {name: importlib.import_module(f"blender_addon.{name}") for name in ("stages", "operator", "api")}
+
+
+def quad_grid(n=12):
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=n, y_subdivisions=n, size=2.0)
+    return bpy.context.active_object
+
+
+def modal_run(obj, **options):
+    mods = modules()
+    reports = []
+    run = mods["stages"].prepare_run(obj, **options)
+    assert run.solver is None, "the tests build: the cache must miss"
+    modal = mods["operator"].ModalRun(run, RecordingDisplay(), lambda kind, text: reports.append((kind, text)))
+    return modal, reports
+
+
+def polygons(mesh):
+    sizes = [len(p.vertices) for p in mesh.polygons]
+    return np.concatenate([[0], np.cumsum(sizes)]), np.concatenate([list(p.vertices) for p in mesh.polygons])
+
+
+def test_a_background_build_of_polygons_is_kept_and_written(addon):  # noqa: F811
+    obj = quad_grid()
+    select_only(obj, [7])
+    modal, reports = modal_run(obj)
+    assert modal.run.polygons is not None  # measured as polygons
+    modal.start()
+    assert drive(modal) == {"FINISHED"}, reports
+    assert reports[-1][0] == {"INFO"} and "solver built in" in reports[-1][1]
+    V = np.array([v.co for v in obj.data.vertices])
+    expected = hc.HeatSolver(hc.PolygonMesh(V, polygons(obj.data))).distance([7])
+    np.testing.assert_allclose(modal.result.distance, expected, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(attribute(obj.data, "geodesic_distance"), expected, rtol=1e-6, atol=1e-7)
+    again = modules()["stages"].prepare_run(obj, sources=[7])
+    assert again.cached and again.solver is modal.run.solver
+
+
+def test_a_bowtie_warning_from_the_worker_reaches_the_report(addon):  # noqa: F811
+    mesh = bpy.data.meshes.new("bowtie")
+    V = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0], [2, 1, 0]]
+    mesh.from_pydata(V, [], [[0, 1, 2, 3], [1, 4, 2, 5]])  # the second quad's sides cross
+    obj = bpy.data.objects.new("bowtie", mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    select_only(obj, [0])
+    modal, reports = modal_run(obj)
+    modal.start()
+    assert drive(modal) == {"FINISHED"}, reports
+    warned = [text for kind, text in reports if kind == {"WARNING"}]
+    assert any("cross" in text for text in warned), reports
+    assert any(text.startswith("1 face(s) cross themselves, as a bowtie does: 1 (sides") for text in warned), warned
+    # the distance: heatcore's PolygonMesh with the bowtie split into its fan triangles
+    expected = hc.HeatSolver(hc.PolygonMesh(np.array(V, float), polygons(mesh), split_crossing=True)).distance([0])
+    np.testing.assert_allclose(modal.result.distance, expected, rtol=1e-9, atol=1e-12)
+
+
+def test_coincident_vertices_are_welded_as_triangles_with_a_note(addon):  # noqa: F811
+    # two quads side by side, their shared edge duplicated: TriangleMesh welds it (weld=0), PolygonMesh would not
+    mesh = bpy.data.meshes.new("seam")
+    V = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [1, 0, 0], [2, 0, 0], [2, 1, 0], [1, 1, 0]]
+    mesh.from_pydata(V, [], [[0, 1, 2, 3], [4, 5, 6, 7]])
+    obj = bpy.data.objects.new("seam", mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    api = modules()["api"]
+    with pytest.warns(UserWarning, match="measured as triangles, not polygons: 2 vertices share their position"):
+        result = api.compute_geodesic_distance(obj, sources=[0], color_attribute=None)
+    assert any("welded" in note for note in result.warnings)
+    mesh.calc_loop_triangles()
+    F = np.array([t.vertices[:] for t in mesh.loop_triangles])
+    np.testing.assert_allclose(result.distance, hc.HeatSolver(hc.TriangleMesh(np.array(V, float), F)).distance([0]),
+                               rtol=1e-9, atol=1e-12)
+    assert result.distance[5] == pytest.approx(2.0, rel=0.05)  # across the welded seam (measured 1.94)
+    apart = api.compute_geodesic_distance(obj, sources=[0], color_attribute=None, weld=None)  # polygons, two parts
+    assert np.isinf(apart.distance[4:]).all() and apart.distance[2] == pytest.approx(np.sqrt(2), rel=0.05)
