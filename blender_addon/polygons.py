@@ -15,7 +15,6 @@ the loop triangles otherwise, or where only triangles serve:
   options; welding: a tolerance, or (the
   default, 0) vertices at exactly the same position (found when the solver
   is built: :func:`polygon_domain`);
-- ``new_object``: the evaluated copy is measured as triangles;
 - ``polygons="TRIANGULATE"``: the loop triangles, as before.
 
 A polygon whose sides cross (a bowtie) is measured as its fan triangles,
@@ -60,7 +59,7 @@ def has_ngons(mesh):
     return len(mesh.loops) > 3 * len(mesh.polygons)
 
 
-def use_polygons(choice, mesh, solver_options, mesh_options, *, points_later=False, new_object=False):
+def use_polygons(choice, mesh, solver_options, mesh_options, *, points_later=False, offsets=None):
     """Whether a run measures ``mesh`` as polygons (``heatcore.PolygonMesh``); see the module docstring.
 
     Parameters
@@ -69,19 +68,22 @@ def use_polygons(choice, mesh, solver_options, mesh_options, *, points_later=Fal
     mesh : bpy.types.Mesh
     solver_options, mesh_options : dict
         The run's checked options (``accuracy``; ``weld``).
-    points_later, new_object : bool
-        Sources placed on faces later (the probe, paths); the evaluated copy measured.
+    points_later : bool
+        Sources placed on faces later (the probe, paths).
+    offsets : int array, optional
+        With ``new_object``: the face offsets of the evaluated mesh that is
+        measured (a Subdivision makes quads of triangles), instead of ``mesh``.
 
     Examples
     --------
     >>> use_polygons("AUTO", bpy.data.meshes["Cube"], {}, {"weld": None})  # doctest: +SKIP
     True
     """
-    if check_polygons(choice) == "TRIANGULATE" or points_later or new_object:
+    if check_polygons(choice) == "TRIANGULATE" or points_later:
         return False
     if solver_options.get("accuracy", "smooth") == "high" or mesh_options.get("weld") or not mesh_options["robust"]:
         return False  # the eikonal pass, a weld tolerance, plain cotan operators: triangle options
-    return has_ngons(mesh)
+    return has_ngons(mesh) if offsets is None else bool(np.diff(offsets).max(initial=0) > 3)
 
 
 def key_options(mesh_options, solver_options, as_polygons):

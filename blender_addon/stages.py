@@ -209,8 +209,8 @@ def read_geometry(obj, space, shape, new_object=False):
     the triangles (the cache key): the mesh's face corners, triangle-to-face
     map and own positions (:func:`~.adapters.topology`; a few milliseconds,
     where copying the triangles out takes 0.15 s at 500k vertices), or with
-    ``new_object`` the triangles themselves (:func:`read_triangles` gives
-    them in both cases). ``new_object``: the whole evaluated mesh (every
+    ``new_object`` the triangles themselves and the faces as ``(offsets,
+    indices)`` (:func:`read_triangles` gives the triangles in both cases). ``new_object``: the whole evaluated mesh (every
     modifier applied) as :func:`~.shape.evaluated_copy` will hold it, read
     without making data.
     """
@@ -221,13 +221,15 @@ def read_geometry(obj, space, shape, new_object=False):
         return V, (*adapters.topology(obj.data), adapters.vertex_positions(obj.data)), skipped
     evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
     try:
-        V, F = adapters.mesh_arrays(evaluated.to_mesh())
+        mesh = evaluated.to_mesh()
+        V, F = adapters.mesh_arrays(mesh)
+        offsets, indices = polygon_arrays(mesh)  # a Subdivision's quads are measured as polygons
     finally:
         evaluated.to_mesh_clear()
     if space == "WORLD":  # as measured_positions(copy, "WORLD", "BASIS") with the copy placed as obj
         M = np.array(obj.matrix_world, dtype=np.float64)
         V = V @ M[:3, :3].T + M[:3, 3]
-    return V, (F,), []
+    return V, (F, offsets, indices), []
 
 
 def read_triangles(obj, topology, new_object=False):
@@ -283,7 +285,7 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
 
     mesh_options = {k: solver_options.pop(k, default) for k, default in MESH_OPTIONS.items()}
     as_polygons = use_polygons(polygons, mesh, solver_options, mesh_options, points_later=sources_later,
-                               new_object=new_object)
+                               offsets=topology[1] if new_object else None)
     if not topology[0].size:  # no face corners (no triangles): a point cloud takes refine only
         mesh_options = {"refine": mesh_options["refine"]}
     domain_options = key_options(mesh_options, solver_options, as_polygons)
@@ -300,7 +302,7 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
     if not run.cached:
         SOLVERS.discard(run.cache_id)  # free the stale solver before building
         run.F = read_triangles(obj, topology, new_object)  # also for polygons: exact duplicates are welded as triangles
-        run.polygons = polygon_arrays(mesh) if as_polygons else None
+        run.polygons = (topology[1:] if new_object else polygon_arrays(mesh)) if as_polygons else None
         run.key = geometry_key(V, topology, domain_options)  # kept with the solver: copied
     return run
 

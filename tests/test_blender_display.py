@@ -87,8 +87,8 @@ def test_new_object_measures_the_mirrored_mesh_and_leaves_the_original_alone(add
     exact = np.linalg.norm(V - [1.0, 0.0, 0.0], axis=1)
     d = attribute(copy.data, "d")
     np.testing.assert_allclose(d, result.distance, rtol=1e-6)
-    np.testing.assert_allclose(d, hc.geodesic_distance(V, loop_triangles(copy.data), result.sources), rtol=1e-6,
-                               atol=1e-9)
+    quads = hc.PolygonMesh(V, [list(p.vertices) for p in copy.data.polygons])  # quads: measured as polygons
+    np.testing.assert_allclose(d, hc.HeatSolver(quads).distance(result.sources), rtol=1e-6, atol=1e-9)
     assert np.abs(d - exact).max() < 0.03 * exact.max()  # the mirrored half too: up to 2.24 away
     assert d[np.argmin(np.linalg.norm(V - [-1.0, 0.0, 0.0], axis=1))] > 1.9  # the mirrored corner is not a source
 
@@ -107,8 +107,8 @@ def test_new_object_maps_sources_through_subdivision(addon):
     V = coords(result.object.data)
     assert len(V) > 10 * len(obj.data.vertices)
     assert np.linalg.norm(V[result.sources[0]] - coords(obj.data)[0]) < 0.1  # vertex 0's child, moved inwards
-    np.testing.assert_allclose(result.distance,
-                               hc.geodesic_distance(V, loop_triangles(result.object.data), result.sources), rtol=1e-6)
+    quads = hc.PolygonMesh(V, [list(p.vertices) for p in result.object.data.polygons])  # subdivided: quads
+    np.testing.assert_allclose(result.distance, hc.HeatSolver(quads).distance(result.sources), rtol=1e-6)
 
 
 def test_edit_mode_undo_restores_the_active_color(addon):

@@ -97,3 +97,26 @@ def test_coincident_vertices_are_welded_as_triangles_with_a_note(addon):  # noqa
     assert result.distance[5] == pytest.approx(2.0, rel=0.05)  # across the welded seam (measured 1.94)
     apart = api.compute_geodesic_distance(obj, sources=[0], color_attribute=None, weld=None)  # polygons, two parts
     assert np.isinf(apart.distance[4:]).all() and apart.distance[2] == pytest.approx(np.sqrt(2), rel=0.05)
+
+
+def test_new_object_measures_the_evaluated_quads_as_polygons(addon):  # noqa: F811
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=1, radius=1.0)  # triangles; the Subdivision makes quads
+    obj = bpy.context.active_object
+    obj.modifiers.new("Subdivision", "SUBSURF").levels = 2
+    obj.location = (2.0, 0.0, 0.0)
+    bpy.context.view_layer.update()
+    api = modules()["api"]
+    result = api.compute_geodesic_distance(obj, sources=[0], color_attribute=None, new_object=True)
+    copy = result.object
+    assert copy is not obj and all(len(p.vertices) == 4 for p in copy.data.polygons)
+    V = np.array([v.co for v in copy.data.vertices]) + [2.0, 0.0, 0.0]  # World space: the copy sits where obj is
+    expected = hc.HeatSolver(hc.PolygonMesh(V, polygons(copy.data))).distance(result.sources)
+    np.testing.assert_allclose(result.distance, expected, rtol=1e-9, atol=1e-12)
+    entry = addon.SOLVERS._entries[(modules()["stages"].COPY_MARKER, obj.session_uid)]
+    assert isinstance(entry[1].domain, hc.PolygonMesh)
+    triangles = api.compute_geodesic_distance(obj, sources=[0], color_attribute=None, new_object=True,
+                                              polygons="TRIANGULATE")
+    copy.data.calc_loop_triangles()
+    F = np.array([t.vertices[:] for t in copy.data.loop_triangles])
+    np.testing.assert_allclose(triangles.distance, hc.HeatSolver(hc.TriangleMesh(V, F)).distance(result.sources),
+                               rtol=1e-9, atol=1e-12)
