@@ -2,7 +2,7 @@
 
 The points are the vertices of the shared test meshes; the reference is the
 exact (MMP, gdist) geodesic distance on the mesh they come from. Each mesh is
-run in four scenarios, from three random source points each:
+run in five scenarios, from three random source points each:
 
 clean
     every vertex.
@@ -16,6 +16,9 @@ nonuniform
 noise
     Gaussian noise of standard deviation 0.1 h per coordinate (h = mean edge
     length); reference: the clean mesh at the original positions.
+heavy noise
+    Gaussian noise of 0.5% of the bounding-box diagonal per coordinate
+    (issue 22's noisy clouds); reference: the clean mesh.
 
 heatcore (``PointCloud`` with defaults, ``HeatSolver`` with defaults) and
 potpourri3d (``PointCloudHeatSolver``, default ``t_coef``) get the same
@@ -42,9 +45,10 @@ from heatcore.reference import exact_distance, mean_relative_error
 
 REPO = Path(__file__).resolve().parents[1]
 MESHES = ["spot", "homer", "fandisk", "cheburashka", "rocker-arm", "nefertiti", "stanford-bunny"]
-SCENARIOS = ["clean", "hole", "nonuniform", "noise"]
+SCENARIOS = ["clean", "hole", "nonuniform", "noise", "heavy noise"]
 HOLE_FRACTION = 0.3
 NOISE = 0.1  # times the mean edge length
+HEAVY_NOISE = 0.005  # times the bounding-box diagonal (issue 22's noisy clouds)
 
 
 def scenario(V, F, kind, seed=0, n_sources=3):
@@ -83,6 +87,8 @@ def scenario(V, F, kind, seed=0, n_sources=3):
         e = np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])
         h = np.linalg.norm(V[e[:, 0]] - V[e[:, 1]], axis=1).mean()
         P_all = V + rng.normal(scale=NOISE * h, size=V.shape)
+    elif kind == "heavy noise":
+        P_all = V + rng.normal(scale=HEAVY_NOISE * np.linalg.norm(np.ptp(V[used], axis=0)), size=V.shape)
     elif kind != "clean":
         raise ValueError(f"unknown scenario {kind!r}")
     idx = np.flatnonzero(keep)

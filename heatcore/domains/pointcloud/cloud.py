@@ -9,7 +9,7 @@ from ...options import check
 from ..base import Domain
 from ..sources import index_list
 from ..validate import vertex_array
-from .local_delaunay import local_delaunay_triangles
+from .local_delaunay import attach_left_out, local_delaunay_triangles
 from .neighborhoods import merge_duplicates, nearest_neighbors, pca_normals
 from .tufted import tufted_cover
 
@@ -43,13 +43,15 @@ class PointCloud(Domain):
     points : (n, 3) float array, the input points
     triangles : (m, 3) int array
         The union of the proposed local Delaunay triangles, indexing the
-        distinct points (``distinct``).
+        distinct points (``distinct``), then one triangle per point that none
+        of them uses but whose neighbors they do (heavy noise; see
+        :func:`~heatcore.domains.pointcloud.local_delaunay.attach_left_out`).
     distinct : (n', 3) float array
         The points after merging duplicates; ``point_map`` sends each input
         point to its distinct point.
     normals : (n', 3) float array, unit normals of the distinct points
     votes : (m,) int array
-        How many points proposed each triangle (1 to 3).
+        How many points proposed each triangle (1 to 3; 0 for an attached one).
     boundary_points : (n',) bool array
         Distinct points whose neighborhood leaves an angular gap of at least
         pi (scan borders and hole rims).
@@ -95,7 +97,9 @@ class PointCloud(Domain):
         else:
             self.normals = _normal_array(normals, n_in, self.point_map, n)
         tri, votes, self.boundary_points = local_delaunay_triangles(self.distinct, self.normals, nbr)
-        self.votes = votes
+        if tri.shape[0]:
+            tri = attach_left_out(self.distinct, tri, nbr)  # points heavy noise left out of every triangle
+        self.votes = np.r_[votes, np.zeros(tri.shape[0] - votes.size, dtype=votes.dtype)]
         self.triangles = tri
         if tri.shape[0] == 0:
             raise InvalidMeshError(

@@ -121,3 +121,60 @@ def _without_reflex_round(ux, uy, ang, nb, alive, col):
     scale = (bx - ax) ** 2 + (by - ay) ** 2 + (ux - ax) ** 2 + (uy - ay) ** 2
     reflex = alive & (c >= 3) & (wedge_prev + wedge_next < np.pi) & (cross >= -REFLEX_TOLERANCE * scale)
     return ux, uy, ang, nb, alive & ~reflex, reflex.any(axis=1)
+
+
+def attach_left_out(P, triangles, nbr):
+    """Triangles joining each point that no local triangle uses to two of its neighbors that one does.
+
+    Heavy noise leaves a few points with no triangle (their neighbors all lie
+    at steep slopes, ``MAX_SLOPE``). Each such point ``o`` with a neighbor on
+    the surface gets one triangle ``(o, a, b)``: ``a`` its nearest neighbor
+    that a triangle uses, ``b`` the nearest other such neighbor that shares
+    an edge with ``a`` (else the nearest other), so that ``o`` hangs on the
+    surface beside ``a`` and gets a distance. Two passes: a point next to
+    one attached in the first pass gets attached in the second. Points with
+    no such neighbor (isolated points) stay out.
+
+    Parameters
+    ----------
+    P : (n, 3) float array
+    triangles : (m, 3) int array, sorted rows
+    nbr : (n, k) int array, neighbors nearest first (-1 for none)
+
+    Returns
+    -------
+    (m', 3) int array, sorted rows: ``triangles`` and the added ones
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> P = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0.2, 0.2, 1.0]])
+    >>> nbr = np.array([[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]])
+    >>> attach_left_out(P, np.array([[0, 1, 2]]), nbr).tolist()  # point 3 hangs on edge (0, 1)
+    [[0, 1, 2], [0, 1, 3]]
+    """
+    n = P.shape[0]
+    for _ in range(2):
+        used = np.zeros(n, dtype=bool)
+        used[triangles] = True
+        left = np.flatnonzero(~used & (nbr >= 0).any(axis=1))
+        if not left.size:
+            break
+        cand = nbr[left]
+        ok = cand >= 0
+        ok[ok] = used[cand[ok]]
+        has_two = ok.sum(axis=1) >= 2
+        left, cand, ok = left[has_two], cand[has_two], ok[has_two]
+        if not left.size:
+            break
+        rows = np.arange(left.size)
+        a = cand[rows, ok.argmax(axis=1)]
+        other = ok & (cand != a[:, None])
+        edges = np.sort(triangles[:, [0, 1, 1, 2, 0, 2]].reshape(-1, 2), axis=1)
+        edge_keys = np.unique(edges[:, 0] * n + edges[:, 1])
+        lo, hi = np.minimum(a[:, None], cand), np.maximum(a[:, None], cand)
+        shares = other & np.isin(lo * n + hi, edge_keys)
+        pick = np.where(shares.any(axis=1), shares.argmax(axis=1), other.argmax(axis=1))
+        added = np.sort(np.column_stack([left, a, cand[rows, pick]]), axis=1)
+        triangles = np.concatenate([triangles, added])
+    return triangles
