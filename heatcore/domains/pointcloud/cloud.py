@@ -10,7 +10,14 @@ from ..base import Domain
 from ..sources import index_list
 from ..validate import vertex_array
 from .local_delaunay import attach_left_out, local_delaunay_triangles
-from .neighborhoods import merge_duplicates, nearest_neighbors, pca_normals
+from .neighborhoods import (
+    MAX_ATTACH_RATIO,
+    MAX_NEIGHBOR_RATIO,
+    merge_duplicates,
+    nearest_neighbors,
+    pca_normals,
+    within_ratio,
+)
 from .tufted import tufted_cover
 
 #: Default neighborhood size.
@@ -91,14 +98,15 @@ class PointCloud(Domain):
         self.k = _neighborhood_size(k, n)
         refine = check("refine", refine)
 
-        nbr, dist = nearest_neighbors(self.distinct, self.k)
+        near, dist = nearest_neighbors(self.distinct, self.k, ratio=MAX_ATTACH_RATIO)
+        nbr = within_ratio(near, dist, MAX_NEIGHBOR_RATIO)  # the neighbors of the normals and local triangles
         if normals is None:
             self.normals = pca_normals(self.distinct, nbr)
         else:
             self.normals = _normal_array(normals, n_in, self.point_map, n)
         tri, votes, self.boundary_points = local_delaunay_triangles(self.distinct, self.normals, nbr)
         if tri.shape[0]:
-            tri = attach_left_out(self.distinct, tri, nbr)  # points heavy noise left out of every triangle
+            tri = attach_left_out(self.distinct, tri, near)  # points heavy noise left out of every triangle
         self.votes = np.r_[votes, np.zeros(tri.shape[0] - votes.size, dtype=votes.dtype)]
         self.triangles = tri
         if tri.shape[0] == 0:
