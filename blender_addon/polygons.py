@@ -11,14 +11,13 @@ the loop triangles otherwise, or where only triangles serve:
 
 - ``accuracy="high"``: the eikonal pass runs on triangle meshes;
 - points on faces (the probe) and geodesic paths: they live on loop triangles;
-- ``robust=False`` (plain cotan operators) and ``weld``: ``TriangleMesh``
-  options; welding: a tolerance, or (the
-  default, 0) vertices at exactly the same position (found when the solver
-  is built: :func:`polygon_domain`);
+- ``robust=False`` (plain cotan operators) and ``weld``, ``TriangleMesh``
+  options: a weld tolerance, or with the default (0) vertices at exactly
+  the same position (found when the solver is built: :func:`polygon_domain`);
 - ``polygons="TRIANGULATE"``: the loop triangles, as before.
 
 A polygon whose sides cross (a bowtie) is measured as its fan triangles,
-with a warning (``split_crossing=True``).
+with a note to the user (``split_crossing=True``).
 
 Examples
 --------

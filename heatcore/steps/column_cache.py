@@ -1,10 +1,10 @@
 """Columns kept per vertex for the queries that come back to the same vertices.
 
 A point source dragged across neighbouring faces (the Blender add-on's probe)
-pins the same corners again and puts its heat on them again. The solves that
-depend on one vertex only (its unit response in the Poisson step, the forward
-half of that response, its heat column) are kept in a :class:`ColumnCache`:
-the most recently used vertices' columns, within a memory bound.
+pins the same corners again. The solves that depend on one vertex only (its
+unit response in the Poisson step, the forward half of that response) are
+kept in a :class:`ColumnCache`: the most recently used vertices' columns,
+within a memory bound.
 
 Examples
 --------
@@ -33,23 +33,6 @@ MIN_CACHED_COLUMNS = 4
 MAX_CACHED_COLUMNS = 64
 
 
-def columns_kept(rows, megabytes=None, min_columns=None, max_columns=None):
-    """How many columns of ``rows`` floats a cache keeps: at most ``max_columns`` and ``megabytes``, at least ``min_columns``.
-
-    Defaults: ``COLUMN_CACHE_MB``, ``MIN_CACHED_COLUMNS``, ``MAX_CACHED_COLUMNS``, read at each call.
-
-    Examples
-    --------
-    >>> columns_kept(2**20), columns_kept(10), columns_kept(2**30)
-    (8, 64, 4)
-    """
-    megabytes, low, high = (
-        default if value is None else value
-        for value, default in zip((megabytes, min_columns, max_columns), (COLUMN_CACHE_MB, MIN_CACHED_COLUMNS, MAX_CACHED_COLUMNS))
-    )
-    return max(low, min(high, int(megabytes * 2**20) // (8 * rows)))
-
-
 class ColumnCache(OrderedDict):
     """Vertex -> its column (``(rows,)`` array), least recently used first, within a memory bound.
 
@@ -76,7 +59,11 @@ class ColumnCache(OrderedDict):
     @property
     def keep(self):
         """How many columns are kept."""
-        return columns_kept(self.rows, *self._bound)
+        megabytes, low, high = (
+            default if value is None else value
+            for value, default in zip(self._bound, (COLUMN_CACHE_MB, MIN_CACHED_COLUMNS, MAX_CACHED_COLUMNS))
+        )
+        return max(low, min(high, int(megabytes * 2**20) // (8 * self.rows)))
 
     def columns(self, vertices, compute):
         """The columns of ``vertices`` as an ``(rows, k)`` array (columns contiguous); ``compute(missing)`` solves the others.
