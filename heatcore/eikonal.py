@@ -74,6 +74,59 @@ _ZERO = np.zeros(1, dtype=np.int64)
 _EMPTY = np.zeros(0, dtype=np.int64)
 
 
+def corner_layout(faces, lengths):
+    """Every corner of the given triangle sets, each triangle once, with its planar layout.
+
+    Parameters
+    ----------
+    faces : list of (m, 3) int arrays
+        Triangle sets on the same vertices; a triangle in several (the same
+        vertices in the same turn) is kept once.
+    lengths : list of (m, 3) float arrays
+        Side lengths, the side opposite each corner.
+
+    Returns
+    -------
+    C, A, B : int arrays
+        Per corner: its vertex, the next and the previous corner's.
+    layout : (5, k) float array
+        ``c, x, y, ca, cb`` as in :class:`CornerTable`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> F, L = np.array([[0, 1, 2]]), np.ones((1, 3))
+    >>> C, A, B, layout = corner_layout([F, F[:, [1, 2, 0]]], [L, L])  # the same triangle twice
+    >>> C.tolist(), A.tolist(), layout[:3, 0].round(3).tolist()
+    ([0, 1, 2], [1, 2, 0], [1.0, 0.5, 0.866])
+    """
+    faces = np.concatenate([np.asarray(f, dtype=np.int64) for f in faces])
+    lengths = np.concatenate([np.asarray(l, dtype=float) for l in lengths])
+    # Each triangle turned to start at its smallest vertex, then duplicates dropped.
+    turn = np.argmin(faces, axis=1)[:, None] + np.arange(3)
+    rows = np.arange(len(faces))[:, None]
+    faces, lengths = faces[rows, turn % 3], lengths[rows, turn % 3]
+    n = int(faces.max(initial=0)) + 1
+    if n < 2**21:  # one int64 key per triangle
+        _, first = np.unique((faces[:, 0] * n + faces[:, 1]) * n + faces[:, 2], return_index=True)
+    else:
+        order = np.lexsort(faces.T[::-1])
+        first = order[np.r_[True, (np.diff(faces[order], axis=0) != 0).any(axis=1)]]
+    faces, lengths = faces[first], lengths[first]
+    C, A, B = faces.ravel(), faces[:, NEXT].ravel(), faces[:, PREV].ravel()
+    c = lengths.ravel()  # |AB|: opposite corner C
+    cb = lengths[:, NEXT].ravel()  # |CB|: opposite corner A
+    ca = lengths[:, PREV].ravel()  # |CA|: opposite corner B
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = (ca * ca - cb * cb + c * c) / (2.0 * c)
+        y = np.sqrt(np.maximum(ca * ca - x * x, 0.0))
+    bad = (A == C) | (B == C) | (A == B) | ~(y > 0) | ~(c > 0) | ~np.isfinite(x)
+    c = np.where(bad, np.nan, c)
+    ca = np.where(A == C, np.inf, ca)
+    cb = np.where(B == C, np.inf, cb)
+    return C, A, B, np.stack([c, x, y, ca, cb])
+
+
 class CornerTable:
     """Every triangle corner of the update set, grouped by the vertex at the corner.
 
@@ -101,32 +154,12 @@ class CornerTable:
     """
 
     def __init__(self, n, faces, lengths):
-        faces = np.concatenate([np.asarray(f, dtype=np.int64) for f in faces])
-        lengths = np.concatenate([np.asarray(l, dtype=float) for l in lengths])
-        C = faces.ravel()
-        A = faces[:, NEXT].ravel()
-        B = faces[:, PREV].ravel()
-        c = lengths.ravel()  # |AB|: opposite corner C
-        cb = lengths[:, NEXT].ravel()  # |CB|: opposite corner A
-        ca = lengths[:, PREV].ravel()  # |CA|: opposite corner B
-        # Group by corner vertex; a triangle present in both sets (one the
-        # intrinsic Delaunay step did not flip) is kept once.
-        order = np.lexsort((B, A, C))
-        C, A, B = C[order], A[order], B[order]
-        keep = np.r_[True, (C[1:] != C[:-1]) | (A[1:] != A[:-1]) | (B[1:] != B[:-1])]
-        order = order[keep]
-        C, A, B, c, ca, cb = C[keep], A[keep], B[keep], c[order], ca[order], cb[order]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            x = (ca * ca - cb * cb + c * c) / (2.0 * c)
-            y = np.sqrt(np.maximum(ca * ca - x * x, 0.0))
-        bad = (A == C) | (B == C) | (A == B) | ~(y > 0) | ~(c > 0) | ~np.isfinite(x)
-        c = np.where(bad, np.nan, c)
-        ca = np.where(A == C, np.inf, ca)
-        cb = np.where(B == C, np.inf, cb)
+        C, A, B, layout = corner_layout(faces, lengths)
+        order = np.argsort(C, kind="stable")  # grouped by corner vertex
         self.n = n
-        self.start = np.searchsorted(C, np.arange(n + 1))
-        self.a, self.b = A, B
-        self.geom = np.stack([c, x, y, ca, cb])
+        self.start = np.searchsorted(C[order], np.arange(n + 1))
+        self.a, self.b = A[order], B[order]
+        self.geom = layout[:, order]
 
     @classmethod
     def of_domain(cls, domain):
@@ -294,13 +327,19 @@ def refine_distance(
     >>> bool(abs(high - smooth.distance_from_pins(pins)).max() < 0.05 * high.max())
     True
     """
+    from . import fast_marching  # numba, imported on first use
+
     unit = domain.operators.unit_exponent
     h = np.broadcast_to(domain.operators.mean_edge_length, np.shape(phi))
     phi = np.ldexp(np.asarray(phi, dtype=float), np.negative(unit))  # in each part's unit
     n = phi.size
-    table = CornerTable.of_domain(domain)
     d = np.full(n, np.inf)
     d[pins.vertices] = pins.values
+    if fast_marching.available():
+        d = march_from_pins(domain, pins, tol)
+        d[~np.isfinite(phi)] = np.inf
+        return d
+    table = CornerTable.of_domain(domain)
     counts_all = np.diff(table.start)
     free = np.isfinite(phi) & (counts_all > 0)
     free[pins.vertices] = False
@@ -335,3 +374,60 @@ def refine_distance(
             sweep.settle(0, 0, offsets[-1], 1)
     d[~np.isfinite(phi)] = np.inf
     return np.ldexp(d, unit)
+
+
+def high_accuracy_distance(domain, pins, heat_distance, tol=TOL):
+    """The ``accuracy="high"`` distance from ``pins``, in the input's units.
+
+    With numba (:mod:`heatcore.fast_marching`) the pass runs from the pins
+    alone and ``heat_distance`` is not called; without it, the vectorized
+    pass of :func:`refine_distance` takes ``heat_distance()`` as its order.
+
+    Parameters
+    ----------
+    domain : Domain with ``supports_high_accuracy``
+    pins : SourcePins
+    heat_distance : callable
+        Returns the heat method's distance from ``pins`` (as :func:`refine_distance`'s ``phi``).
+    tol : float
+
+    Examples
+    --------
+    >>> import numpy as np, heatcore as hc
+    >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
+    >>> domain = hc.TriangleMesh(V, [[0, 1, 2], [1, 3, 2]])
+    >>> smooth = hc.HeatSolver(domain)
+    >>> pins = domain.source_pins([0])
+    >>> d = high_accuracy_distance(domain, pins, lambda: smooth.distance_from_pins(pins))
+    >>> round(float(d[3]), 6)
+    1.414214
+    """
+    from . import fast_marching  # numba, imported on first use
+
+    if fast_marching.available():
+        return march_from_pins(domain, pins, tol)
+    return refine_distance(domain, heat_distance(), pins, tol=tol)
+
+
+def march_from_pins(domain, pins, tol=TOL):
+    """Compiled fast marching from ``pins`` over the domain's eikonal triangles, in the input's units (needs numba).
+
+    ``inf`` where no pin can be reached.
+
+    Examples
+    --------
+    >>> import numpy as np, heatcore as hc
+    >>> domain = hc.TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0)
+    >>> from heatcore import fast_marching
+    >>> if fast_marching.available():
+    ...     print(march_from_pins(domain, domain.source_pins([0])).round(6).tolist())
+    ... else:
+    ...     print([0.0, 1.414214, 1.414214])
+    [0.0, 1.414214, 1.414214]
+    """
+    from . import fast_marching
+
+    d = np.full(domain.operators.n_vertices, np.inf)
+    d[pins.vertices] = pins.values
+    fast_marching.march(fast_marching.Readers.of_domain(domain), d, pins.vertices, tol)
+    return np.ldexp(d, domain.operators.unit_exponent)

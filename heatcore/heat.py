@@ -216,6 +216,14 @@ class HeatSolver(VoronoiQueries, PathQueries):
         The pins hold distances in the operators' units (see
         :class:`~heatcore.domains.operators.Operators`), as the domain builds them.
         """
+        if self.accuracy == "high":
+            from .eikonal import high_accuracy_distance
+
+            return high_accuracy_distance(self.domain, pins, lambda: self._heat_distance(pins))
+        return self._heat_distance(pins)
+
+    def _heat_distance(self, pins):
+        """:meth:`distance_from_pins` by the heat method (``accuracy="smooth"``)."""
         u = self.heat(pins.heat)
         b = minus_divergence(self.ops, self._gradient_transposed, u, self._element_h)
         reached = None if self.n_components == 1 else np.isin(self.component, self.component[pins.vertices])
@@ -224,12 +232,7 @@ class HeatSolver(VoronoiQueries, PathQueries):
         np.maximum(phi, 0.0, out=phi)
         if reached is not None:
             phi[~reached] = np.inf
-        phi = np.ldexp(phi, self.ops.unit_exponent)
-        if self.accuracy == "high":
-            from .eikonal import refine_distance
-
-            phi = refine_distance(self.domain, phi, pins)
-        return phi
+        return np.ldexp(phi, self.ops.unit_exponent)
 
     def distances(self, sources_block, *, max_memory_mb=None):
         """Geodesic distances from each of ``k`` sources: one row per source, computed together.
@@ -326,7 +329,25 @@ class HeatSolver(VoronoiQueries, PathQueries):
         return self.domain.source_pins(source)
 
     def _distances_from_pins(self, block):
-        """:meth:`distance_from_pins` of several sources as columns ``(n, k)``, with multi-column solves."""
+        """:meth:`distance_from_pins` of several sources as columns ``(n, k)``."""
+        if self.accuracy != "high":
+            return self._heat_distances(block)
+        from .eikonal import high_accuracy_distance
+
+        heat = []  # the block's heat distances, computed on first need (the pass without numba)
+
+        def heat_column(j):
+            if not heat:
+                heat.append(self._heat_distances(block))
+            return np.ascontiguousarray(heat[0][:, j])
+
+        phi = np.empty((self.ops.n_vertices, len(block)))
+        for j, pins in enumerate(block):
+            phi[:, j] = high_accuracy_distance(self.domain, pins, lambda j=j: heat_column(j))
+        return phi
+
+    def _heat_distances(self, block):
+        """:meth:`_distances_from_pins` by the heat method, with multi-column solves."""
         n, k = self.ops.n_vertices, len(block)
         impulse = np.empty((n, k), order="F")  # columns contiguous: what one-column backends read
         for j, pins in enumerate(block):
@@ -349,13 +370,7 @@ class HeatSolver(VoronoiQueries, PathQueries):
                 hit[self.component[pins.vertices], j] = True
             phi[~hit[self.component]] = np.inf
         exponent = self.ops.unit_exponent
-        phi = np.ldexp(phi, exponent[:, None] if np.ndim(exponent) else exponent)
-        if self.accuracy == "high":
-            from .eikonal import refine_distance
-
-            for j, pins in enumerate(block):
-                phi[:, j] = refine_distance(self.domain, np.ascontiguousarray(phi[:, j]), pins)
-        return phi
+        return np.ldexp(phi, exponent[:, None] if np.ndim(exponent) else exponent)
 
     def heat(self, impulse):
         """Heat after one backward Euler step of length ``t`` from ``impulse`` ((n,), or (n, k): k columns at once)."""

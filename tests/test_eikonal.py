@@ -7,9 +7,19 @@ from conftest import exact_distance, load_shared_mesh, mean_relative_error
 from shapes import grid
 
 import heatcore as hc
-from heatcore import eikonal
+from heatcore import eikonal, fast_marching
 
 MESHES = ["spot", "homer", "fandisk", "cheburashka", "rocker-arm", "nefertiti", "stanford-bunny"]
+
+
+@pytest.fixture(autouse=True, params=["march", "bands"])
+def eikonal_pass(request, monkeypatch):
+    """Every test runs twice: with the compiled fast marching (numba) and with the vectorized pass (without it)."""
+    if request.param == "march":
+        assert fast_marching.available(), "numba is missing: pip install -e '.[fast]'"
+    else:
+        monkeypatch.setattr(fast_marching, "available", lambda: False)
+    return request.param
 
 
 def three_sources(F):
@@ -191,3 +201,4 @@ def test_high_accuracy_with_several_sources_at_once():
     exact = exact_distance(V, F, s)
     d = hc.HeatSolver(hc.TriangleMesh(V, F), accuracy="high").distance(s)
     assert mean_relative_error(d, exact) <= 0.005
+

@@ -13,6 +13,7 @@ from shapes import grid, icosphere
 
 import heatcore as hc
 from heatcore.apps.cli import main
+from heatcore.paths import path as path_module
 
 MEAN_EXCESS, MAX_EXCESS, SHORTER = 1e-3, 5e-3, 1e-9
 
@@ -146,8 +147,9 @@ def test_distances_are_queried_once_per_point_and_kept(monkeypatch):
     V, F = load_shared_mesh("spot")
     solver = hc.HeatSolver(hc.TriangleMesh(V, F))
     calls = []
-    original = solver.distance_from_pins
-    monkeypatch.setattr(solver, "distance_from_pins", lambda pins: calls.append(pins.vertices[0]) or original(pins))
+    original = path_module.high_accuracy_distance
+    monkeypatch.setattr(path_module, "high_accuracy_distance",
+                        lambda domain, pins, heat: calls.append(pins.vertices[0]) or original(domain, pins, heat))
     first = solver.geodesic_path(0, 1453)  # from both ends: the distance from 0 and from 1453
     assert len(calls) == 2
     assert solver.geodesic_path(0, 1453).length == first.length and len(calls) == 2

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..domains.triangle import TriangleMesh
-from ..eikonal import refine_distance
+from ..eikonal import high_accuracy_distance
 from ..errors import InvalidSourceError, UnsupportedDomainError
 from .funnel import Piece
 from .straighten import straighten
@@ -125,9 +125,10 @@ class PathField:
         else:
             face = int(mesh.face_ids[source.face])
             pins = solver.domain.source_pins(points=([face], [mesh.bary_in(source.face, source)]))
-        phi = solver.distance_from_pins(pins)
-        if solver.accuracy != "high":  # the eikonal pass: a better route for little more time
-            phi = refine_distance(solver.domain, phi, pins)
+        if solver.accuracy == "high":
+            phi = solver.distance_from_pins(pins)
+        else:  # the eikonal pass all the same: a better route for little more time
+            phi = high_accuracy_distance(solver.domain, pins, lambda: solver.distance_from_pins(pins))
         phi = phi[: mesh.positions.shape[0]]
         field = cls(DescentField(mesh, phi), key)
         while len(kept) >= FIELDS_KEPT:
