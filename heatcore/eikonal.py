@@ -70,6 +70,7 @@ POLISH_SWEEPS = 0
 TOL = 1e-6
 
 _CORNERS = weakref.WeakKeyDictionary()
+_READERS = weakref.WeakKeyDictionary()  # domain -> fast_marching.Readers
 _ZERO = np.zeros(1, dtype=np.int64)
 _EMPTY = np.zeros(0, dtype=np.int64)
 
@@ -429,5 +430,9 @@ def march_from_pins(domain, pins, tol=TOL):
 
     d = np.full(domain.operators.n_vertices, np.inf)
     d[pins.vertices] = pins.values
-    fast_marching.march(fast_marching.Readers.of_domain(domain), d, pins.vertices, tol)
+    try:
+        readers = _READERS[domain]
+    except KeyError:
+        readers = _READERS[domain] = fast_marching.Readers(domain.operators.n_vertices, *corner_layout(*domain.eikonal_triangles()))
+    fast_marching.march(readers, d, pins.vertices, tol)
     return np.ldexp(d, domain.operators.unit_exponent)

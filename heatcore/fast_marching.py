@@ -25,7 +25,8 @@ module where it is writable). Without numba, :func:`available` is False and
 Examples
 --------
 >>> import numpy as np
->>> equilateral = Readers(3, [np.array([[0, 1, 2]])], [np.array([[1.0, 1.0, 1.0]])])
+>>> from heatcore.eikonal import corner_layout
+>>> equilateral = Readers(3, *corner_layout([np.array([[0, 1, 2]])], [np.array([[1.0, 1.0, 1.0]])]))
 >>> d = np.array([0.0, np.inf, np.inf])
 >>> if available():
 ...     march(equilateral, d, np.array([0]), 1e-6)
@@ -33,13 +34,9 @@ Examples
 [0.0, 1.0, 1.0]
 """
 
-import weakref
-
 import numpy as np
 
 from .linalg.libraries import optional
-
-_READERS = weakref.WeakKeyDictionary()
 
 _numba = optional("numba")
 
@@ -77,12 +74,13 @@ def march(readers, d, pinned, tol):
     Examples
     --------
     >>> import numpy as np
+    >>> from heatcore.eikonal import corner_layout
     >>> V = np.array([[0, 0], [1, 0], [0, 1], [1, 1]], float)
     >>> F = np.array([[0, 1, 2], [1, 3, 2]])
     >>> L = np.linalg.norm(V[F[:, [1, 2, 0]]] - V[F[:, [2, 0, 1]]], axis=2)  # side opposite each corner
     >>> d = np.array([0.0, np.inf, np.inf, np.inf])
     >>> if available():
-    ...     march(Readers(4, [F], [L]), d, np.array([0]), 1e-6)
+    ...     march(Readers(4, *corner_layout([F], [L])), d, np.array([0]), 1e-6)
     ...     print(np.round(d, 6).tolist())
     ... else:
     ...     print([0.0, 1.0, 1.0, 1.414214])
@@ -107,8 +105,8 @@ class Readers:
     ----------
     n : int
         Number of vertices.
-    faces, lengths : lists of (m, 3) arrays
-        Triangle sets and their side lengths (see :func:`heatcore.eikonal.corner_layout`).
+    C, A, B, layout : arrays
+        The corners, as :func:`heatcore.eikonal.corner_layout` returns them.
 
     Attributes
     ----------
@@ -122,39 +120,15 @@ class Readers:
     Examples
     --------
     >>> import numpy as np
-    >>> readers = Readers(3, [np.array([[0, 1, 2]])], [np.array([[1.0, 1.0, 1.0]])])
+    >>> from heatcore.eikonal import corner_layout
+    >>> readers = Readers(3, *corner_layout([np.array([[0, 1, 2]])], [np.array([[1.0, 1.0, 1.0]])]))
     >>> rows = slice(readers.start[0], readers.start[1])  # the corners that read vertex 0
     >>> readers.corner_vertex[rows].tolist(), readers.other[rows].tolist()
     ([1, 2], [2, 1])
     """
 
-    def __init__(self, n, faces, lengths):
-        from .eikonal import corner_layout
-
-        C, A, B, layout = corner_layout(faces, lengths)
+    def __init__(self, n, C, A, B, layout):
         self.start, self.corner_vertex, self.other, self.layout = _by_reader(n, C, A, B, layout)
-
-    @classmethod
-    def of_domain(cls, domain):
-        """The readers of a domain's :meth:`~heatcore.domains.base.Domain.eikonal_triangles` (built once, cached).
-
-        Examples
-        --------
-        >>> import numpy as np, heatcore as hc
-        >>> domain = hc.TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0)
-        >>> Readers.of_domain(domain) is Readers.of_domain(domain)
-        True
-        """
-        try:
-            return _READERS[domain]
-        except (KeyError, TypeError):
-            pass
-        readers = cls(domain.operators.n_vertices, *domain.eikonal_triangles())
-        try:
-            _READERS[domain] = readers
-        except TypeError:  # pragma: no cover - a domain that cannot be weakly referenced
-            pass
-        return readers
 
 
 @_compiled
