@@ -1,4 +1,10 @@
-"""Accuracy mode: an ordered eikonal pass that uses the heat distance as its order.
+"""Accuracy mode: the eikonal pass of ``accuracy="high"``.
+
+:func:`high_accuracy_distance` is the entry point. Where numba is installed
+it runs the compiled fast marching of :mod:`heatcore.fast_marching` from the
+sources alone (:func:`march_from_pins`; same triangle update, same corners as
+below). Without numba it takes the vectorized pass of
+:func:`refine_distance`, described here.
 
 The heat method gives a smooth distance ``phi`` whose error (1-2% on real
 meshes) is low-frequency: the *order* in which it reaches the vertices is

@@ -243,11 +243,11 @@ _OPTIONS = (
     ),
     Option(
         "accuracy", "accuracy", str, "smooth", "none (a choice)",
-        "smooth: the heat method (its error is 1-2%); high: heat method followed by an ordered eikonal "
-        "pass (about 0.1-0.3% error, a few times slower per query)",
+        "smooth: the heat method (its error is 1-2%); high: an eikonal pass (about 0.1-0.3% error; a query "
+        "costs 2-3 smooth ones with the 'fast' extra, numba, and 10-40 without it)",
         "solver", choices=("smooth", "high"),
         choice_help=("The heat method: smooth distance, about 1-2% error",
-                     "Heat method plus an ordered eikonal pass: about 0.1-0.3% error, slower"),
+                     "An eikonal pass: about 0.1-0.3% error, 2-40 times slower (see the docs)"),
         flag="--accuracy", front_end_defaults=(("vector heat", "high", "high: the log map's radius"),),
     ),
     Option(
