@@ -1,10 +1,9 @@
-"""Accuracy mode: the eikonal pass of ``accuracy="high"``.
+"""The eikonal pass of ``accuracy="high"`` without numba, and the corner geometry of both passes.
 
-:func:`high_accuracy_distance` is the entry point. Where numba is installed
-it runs the compiled fast marching of :mod:`heatcore.fast_marching` from the
-sources alone (:func:`march_from_pins`; same triangle update, same corners as
-below). Without numba it takes the vectorized pass of
-:func:`refine_distance`, described here.
+:mod:`heatcore.high_accuracy` chooses the pass: the compiled fast marching of
+:mod:`heatcore.fast_marching` where numba is installed (same triangle update,
+same corners as here, from :func:`corner_layout`), else this module's
+vectorized pass, :func:`refine_distance`, described here.
 
 The heat method gives a smooth distance ``phi`` whose error (1-2% on real
 meshes) is low-frequency: the *order* in which it reaches the vertices is
@@ -76,7 +75,6 @@ POLISH_SWEEPS = 0
 TOL = 1e-6
 
 _CORNERS = weakref.WeakKeyDictionary()
-_READERS = weakref.WeakKeyDictionary()  # domain -> fast_marching.Readers
 _ZERO = np.zeros(1, dtype=np.int64)
 _EMPTY = np.zeros(0, dtype=np.int64)
 
@@ -334,18 +332,12 @@ def refine_distance(
     >>> bool(abs(high - smooth.distance_from_pins(pins)).max() < 0.05 * high.max())
     True
     """
-    from . import fast_marching  # numba, imported on first use
-
     unit = domain.operators.unit_exponent
     h = np.broadcast_to(domain.operators.mean_edge_length, np.shape(phi))
     phi = np.ldexp(np.asarray(phi, dtype=float), np.negative(unit))  # in each part's unit
     n = phi.size
     d = np.full(n, np.inf)
     d[pins.vertices] = pins.values
-    if fast_marching.available():
-        d = march_from_pins(domain, pins, tol)
-        d[~np.isfinite(phi)] = np.inf
-        return d
     table = CornerTable.of_domain(domain)
     counts_all = np.diff(table.start)
     free = np.isfinite(phi) & (counts_all > 0)
@@ -382,63 +374,3 @@ def refine_distance(
     d[~np.isfinite(phi)] = np.inf
     return np.ldexp(d, unit)
 
-
-def high_accuracy_distance(domain, pins, heat_distance, tol=TOL):
-    """The ``accuracy="high"`` distance from ``pins``, in the input's units.
-
-    With numba (:mod:`heatcore.fast_marching`) the pass runs from the pins
-    alone and ``heat_distance`` is not called; without it, the vectorized
-    pass of :func:`refine_distance` takes ``heat_distance()`` as its order.
-
-    Parameters
-    ----------
-    domain : Domain with ``supports_high_accuracy``
-    pins : SourcePins
-    heat_distance : callable
-        Returns the heat method's distance from ``pins`` (as :func:`refine_distance`'s ``phi``).
-    tol : float
-
-    Examples
-    --------
-    >>> import numpy as np, heatcore as hc
-    >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
-    >>> domain = hc.TriangleMesh(V, [[0, 1, 2], [1, 3, 2]])
-    >>> smooth = hc.HeatSolver(domain)
-    >>> pins = domain.source_pins([0])
-    >>> d = high_accuracy_distance(domain, pins, lambda: smooth.distance_from_pins(pins))
-    >>> round(float(d[3]), 6)
-    1.414214
-    """
-    from . import fast_marching  # numba, imported on first use
-
-    if fast_marching.available():
-        return march_from_pins(domain, pins, tol)
-    return refine_distance(domain, heat_distance(), pins, tol=tol)
-
-
-def march_from_pins(domain, pins, tol=TOL):
-    """Compiled fast marching from ``pins`` over the domain's eikonal triangles, in the input's units (needs numba).
-
-    ``inf`` where no pin can be reached.
-
-    Examples
-    --------
-    >>> import numpy as np, heatcore as hc
-    >>> domain = hc.TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0)
-    >>> from heatcore import fast_marching
-    >>> if fast_marching.available():
-    ...     print(march_from_pins(domain, domain.source_pins([0])).round(6).tolist())
-    ... else:
-    ...     print([0.0, 1.414214, 1.414214])
-    [0.0, 1.414214, 1.414214]
-    """
-    from . import fast_marching
-
-    d = np.full(domain.operators.n_vertices, np.inf)
-    d[pins.vertices] = pins.values
-    try:
-        readers = _READERS[domain]
-    except KeyError:
-        readers = _READERS[domain] = fast_marching.Readers(domain.operators.n_vertices, *corner_layout(*domain.eikonal_triangles()))
-    fast_marching.march(readers, d, pins.vertices, tol)
-    return np.ldexp(d, domain.operators.unit_exponent)

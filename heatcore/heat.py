@@ -7,9 +7,10 @@
    distance (0 at a source vertex), solved per connected component;
 4. vertices that no source reaches get ``inf``.
 
-All factorizations are built in the constructor; :meth:`HeatSolver.distance`
-only runs triangular solves and sparse products, and :meth:`HeatSolver.distances`
-runs them for many sources at once. The steps' own numerics live beside this
+All factorizations are built in the constructor (with ``accuracy="high"`` and
+numba, on first need: its distances come from fast marching, see
+:mod:`heatcore.high_accuracy`); :meth:`HeatSolver.distance` only runs
+triangular solves and sparse products, :meth:`HeatSolver.distances` many at once. The steps' own numerics live beside this
 module, in :mod:`heatcore.steps`: the time step's underflow guard, the heat flow (step 1), the
 unit field (step 2), the pinned Poisson solve (step 3) and the blocks of many sources.
 
@@ -25,7 +26,6 @@ Examples
 
 import logging
 import time
-import weakref
 from collections.abc import Mapping
 from concurrent.futures import Future
 
@@ -35,6 +35,7 @@ import scipy.sparse as sp
 from .domains.parts import first_of_each, hop_diameters, vertex_components, vertex_graph
 from .domains.sources import SourcePins, source_keywords
 from .errors import InvalidOptionError, SolverError
+from .high_accuracy import high_accuracy_distance, high_accuracy_needs_heat
 from .linalg import (
     Ordering,
     choose_backend,
@@ -44,6 +45,7 @@ from .linalg import (
     solve_columns,
     start_nested_dissection,
 )
+from .linalg.factor import domain_factors
 from .options import check
 from .paths.queries import PathQueries
 from .progress import Progress
@@ -56,9 +58,6 @@ from .steps.unit_field import minus_divergence, minus_divergence_columns, unit_f
 from .voronoi import VoronoiQueries
 
 log = logging.getLogger("heatcore")
-
-#: Factorizations and orderings of each live domain, shared by its solvers (see :func:`domain_factors`).
-_DOMAIN_FACTORS = weakref.WeakKeyDictionary()
 
 #: The solver's options, declared in :mod:`heatcore.options`.
 OPTION_NAMES = ("m", "boundary", "accuracy", "backend")
@@ -78,9 +77,8 @@ class HeatSolver(VoronoiQueries, PathQueries):
         recommends. Domains without boundary always use Neumann.
     accuracy : {"smooth", "high"}, default "smooth"
         "smooth" is the heat method as the paper describes it (``m`` controls
-        smoothing). "high" follows it with an ordered eikonal pass that uses
-        the heat distance as the order (:mod:`heatcore.eikonal`); triangle
-        meshes only.
+        smoothing). "high": an eikonal pass (:mod:`heatcore.high_accuracy`),
+        0.1-0.3% error; triangle meshes only.
     backend : {"auto", "supernodal", "qdldl", "cholmod", "superlu"}
         Sparse factorization backend (see :mod:`heatcore.linalg`).
     progress : callable, optional
@@ -139,11 +137,10 @@ class HeatSolver(VoronoiQueries, PathQueries):
         # Factorizations and orderings that depend on the domain only (not on m or
         # the boundary condition) are shared by every solver built on it.
         self._domain_cache = domain_factors(domain)
-        poisson_backend = self._resolve(backend, "solve")
-        if ("poisson", backend) not in self._domain_cache and ("nested", poisson_backend) not in self._domain_cache:
-            # On large meshes: a better ordering for the Poisson factor, computed in the
-            # background while the heat matrix is factored (with the quick ordering).
-            self._domain_cache["nested", poisson_backend] = start_nested_dissection(self._laplacian, poisson_backend)
+        # accuracy="high" with numba needs no factorization: they wait for a first use (heat_flow, poisson).
+        self._pending = (backend, progress) if accuracy == "high" and not high_accuracy_needs_heat() else None
+        if self._pending is None:
+            self._start_nested_dissection(backend)
 
         graph = vertex_graph(ops.elements, n)
         self.n_components, self.component = vertex_components(ops.elements, n, graph)
@@ -163,26 +160,55 @@ class HeatSolver(VoronoiQueries, PathQueries):
         self._element_h = h[0] if (h == h[0]).all() else h[ops.elements[:, 0]]
         self.t = np.ldexp(step[ground], 2 * np.broadcast_to(ops.unit_exponent, (n,))[ground])
         self._gradient_transposed = ops.gradient.T  # a view: -div X = G^T (volumes * X)
+        self.timings["setup"] = time.perf_counter() - start
+        if self._pending is None:
+            self._prefactor(backend, progress)
+        log.info("heat solver ready: %d operator vertices, %d components, t=%.3g..%.3g, boundary=%s (%.2f s)", n,
+                 self.n_components, self.t.min(), self.t.max(), self.boundary, sum(self.timings.values()))
+        progress(1.0, "heat solver ready")
+
+    @property
+    def heat_flow(self):
+        """Step 1, the heat flow (:class:`~heatcore.steps.heat_flow.HeatFlow`), factored on first use where it waits."""
+        self._factor_pending()
+        return self._heat_flow
+
+    @property
+    def poisson(self):
+        """Step 3, the pinned Poisson solve (:class:`~heatcore.steps.poisson.PinnedPoisson`), factored on first use where it waits."""
+        self._factor_pending()
+        return self._poisson
+
+    def _factor_pending(self):
+        if self._pending is not None:
+            (backend, progress), self._pending = self._pending, None
+            self._start_nested_dissection(backend)
+            self._prefactor(backend, progress)
+
+    def _start_nested_dissection(self, backend):
+        """On large meshes: a better ordering for the Poisson factor, computed in the background while
+        the heat matrix is factored (with the quick ordering)."""
+        poisson_backend = self._resolve(backend, "solve")
+        if ("poisson", backend) not in self._domain_cache and ("nested", poisson_backend) not in self._domain_cache:
+            self._domain_cache["nested", poisson_backend] = start_nested_dissection(self._laplacian, poisson_backend)
+
+    def _prefactor(self, backend, progress):
+        """Factor the heat and the Poisson matrices (the Poisson one kept on the domain, for fast solves)."""
+        start = time.perf_counter()
         self._factor_heat(self._resolve(backend, "factor"), progress.part(0.05, 0.7))
         self.timings["heat factorization"] = time.perf_counter() - start
-
         start = time.perf_counter()
         progress(0.7, "factoring the Poisson matrix")
-        # The Poisson factorization is kept for every query, so it is made for fast solves.
+        poisson_backend = self._resolve(backend, "solve")
         if ("poisson", backend) not in self._domain_cache:
-            K = grounded(self._laplacian, ground)
+            K = grounded(self._laplacian, self._ground)
             self._domain_cache["poisson", backend] = factor(K, poisson_backend, ordering=self._laplacian_ordering(poisson_backend))
-        self.poisson = PinnedPoisson(
-            self._laplacian, self._domain_cache["poisson", backend], ground, self.component, self.n_components,
-            self._factor_free,
-        )
+        self._poisson = PinnedPoisson(self._laplacian, self._domain_cache["poisson", backend], self._ground, self.component,
+                                      self.n_components, self._factor_free)
         self.timings["poisson factorization"] = time.perf_counter() - start
         for ordering in self._domain_cache.values():
             if isinstance(ordering, Ordering):
                 ordering.forget_pattern()  # its memory matters more than re-converting for another m
-        log.info("heat solver ready: %d operator vertices, %d components, t=%.3g..%.3g, boundary=%s (%.2f s)", n,
-                 self.n_components, self.t.min(), self.t.max(), self.boundary, sum(self.timings.values()))
-        progress(1.0, "heat solver ready")
 
     def distance(self, vertices=None, **sources):
         """Geodesic distance from the given sources to every input vertex.
@@ -217,8 +243,6 @@ class HeatSolver(VoronoiQueries, PathQueries):
         :class:`~heatcore.domains.operators.Operators`), as the domain builds them.
         """
         if self.accuracy == "high":
-            from .eikonal import high_accuracy_distance
-
             return high_accuracy_distance(self.domain, pins, lambda: self._heat_distance(pins))
         return self._heat_distance(pins)
 
@@ -332,8 +356,6 @@ class HeatSolver(VoronoiQueries, PathQueries):
         """:meth:`distance_from_pins` of several sources as columns ``(n, k)``."""
         if self.accuracy != "high":
             return self._heat_distances(block)
-        from .eikonal import high_accuracy_distance
-
         heat = []  # the block's heat distances, computed on first need (the pass without numba)
 
         def heat_column(j):
@@ -395,7 +417,7 @@ class HeatSolver(VoronoiQueries, PathQueries):
         # Neumann: the condition itself, half of Robin, or the fallback where Dirichlet sees no heat.
         progress(0.0 if dirichlet is None else 0.5, "factoring the heat matrix")
         neumann = factor(heat_matrix, backend, ordering=self._ordering(backend))
-        self.heat_flow = HeatFlow(neumann, dirichlet, interior, self.boundary, self.component, self.n_components,
+        self._heat_flow = HeatFlow(neumann, dirichlet, interior, self.boundary, self.component, self.n_components,
                                   BoundarySourceHeat(ops, self._laplacian, step, neumann))
 
     def _resolve(self, backend, prefer):
@@ -426,19 +448,3 @@ class HeatSolver(VoronoiQueries, PathQueries):
         ordering = restrict_ordering(self._laplacian_ordering(backend), free)
         return factor(self._laplacian[free][:, free], backend, ordering=ordering)
 
-
-def domain_factors(domain):
-    """The factorizations and orderings kept for ``domain``, shared by every solver built on it.
-
-    They depend on the domain only (not on ``m`` or the boundary condition),
-    live as long as the domain does, and are kept here, not on the domain.
-
-    Examples
-    --------
-    >>> import numpy as np, heatcore as hc
-    >>> mesh = hc.TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0)
-    >>> _ = hc.HeatSolver(mesh)
-    >>> sorted({key for key, _ in domain_factors(mesh)})
-    ['nested', 'ordering', 'poisson']
-    """
-    return _DOMAIN_FACTORS.setdefault(domain, {})

@@ -14,7 +14,7 @@ never up and never sideways to a sibling group):
     front ends   apps/ (and heatcore.__main__)  |  blender_addon/
     api          heatcore/__init__.py
     io | viz     io/ (file readers and writers)  |  viz/ (colormaps, renderer)  |  weights.py
-    solver       heat.py, eikonal.py, fast_marching.py, reference.py, contours.py, voronoi.py
+    solver       heat.py, eikonal.py, fast_marching.py, high_accuracy.py, reference.py, contours.py, voronoi.py
     domains      domains/
     linalg       linalg/ (knows no geometry)
     foundation   errors.py, options.py, progress.py
@@ -68,9 +68,8 @@ LAYERS = [
                    "heatcore.triangle", "heatcore.validate", "heatcore.weld"])]),
     ("solver", [("solver", "the heat method and its family: paths, isolines, vector heat",
                  ["heatcore.heat", "heatcore.heat.*", "heatcore.steps", "heatcore.steps.*", "heatcore.eikonal",
-                  "heatcore.eikonal.*", "heatcore.fast_marching", "heatcore.vector_heat", "heatcore.vector_heat.*",
-                  "heatcore.reference",
-                  "heatcore.contours", "heatcore.voronoi", "heatcore.paths", "heatcore.paths.*"])]),
+                  "heatcore.eikonal.*", "heatcore.fast_marching", "heatcore.high_accuracy", "heatcore.vector_heat",
+                  "heatcore.vector_heat.*", "heatcore.reference", "heatcore.contours", "heatcore.voronoi", "heatcore.paths", "heatcore.paths.*"])]),
     ("io | viz", [("io", "reading and writing files; raises core errors",
                    ["heatcore.io", "heatcore.io.*", "heatcore.domain_io", "heatcore.ply",
                     "heatcore.pointcloud_io", "heatcore.polygon_io", "heatcore.tet_io"]),

@@ -65,3 +65,15 @@ def test_readers_hold_every_corner_twice_turned_to_its_reader():
             assert np.isclose(np.hypot(x, y), np.linalg.norm(V[C] - V[u])) and np.isclose(ca, np.hypot(x, y))
             assert np.isclose(np.hypot(c - x, y), np.linalg.norm(V[C] - V[B])) and np.isclose(cb, np.hypot(c - x, y))
             assert y > 0
+
+
+def test_a_high_solver_factors_on_first_need():
+    """With the march, accuracy="high" solves nothing: its factorizations wait until something asks."""
+    V, F = load_shared_mesh("spot")
+    solver = hc.HeatSolver(hc.TriangleMesh(V, F), accuracy="high")
+    d = solver.distance([3])
+    assert "heat factorization" not in solver.timings and "poisson factorization" not in solver.timings
+    assert mean_relative_error(d, exact_distance(V, F, 3)) < 0.003
+    assert solver.heat_flow is not None and solver.poisson is not None  # built now, once
+    assert {"heat factorization", "poisson factorization"} <= set(solver.timings)
+    np.testing.assert_array_equal(solver.distance([3]), d)

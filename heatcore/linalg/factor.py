@@ -23,6 +23,7 @@ array([1., 1.])
 import abc
 import importlib
 import logging
+import weakref
 
 import numpy as np
 import scipy.sparse as sp
@@ -31,6 +32,9 @@ from ..errors import SolverError
 from .libraries import optional, warn_once
 
 log = logging.getLogger(__name__)
+
+#: Factorizations and orderings of each live domain, shared by its solvers (see :func:`domain_factors`).
+_DOMAIN_FACTORS = weakref.WeakKeyDictionary()
 
 #: From this many unknowns up "auto" uses the supernodal backend where installed.
 SUPERNODAL_MIN_SIZE = 100_000
@@ -246,3 +250,20 @@ def factor(A, backend="auto", prefer="factor", ordering=None):
         raise SolverError(f"backend {backend!r} needs the {library} package{extra}")
     # The backend's module is imported on first use, like its library.
     return getattr(importlib.import_module(f".{module}", __package__), factor_class)(A, ordering)
+
+
+def domain_factors(domain):
+    """The factorizations and orderings kept for ``domain``, shared by every solver built on it.
+
+    They depend on the domain only (not on ``m`` or the boundary condition),
+    live as long as the domain does, and are kept here, not on the domain.
+
+    Examples
+    --------
+    >>> import numpy as np, heatcore as hc
+    >>> mesh = hc.TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0)
+    >>> _ = hc.HeatSolver(mesh)
+    >>> sorted({key for key, _ in domain_factors(mesh)})
+    ['nested', 'ordering', 'poisson']
+    """
+    return _DOMAIN_FACTORS.setdefault(domain, {})

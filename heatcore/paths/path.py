@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..domains.triangle import TriangleMesh
-from ..eikonal import high_accuracy_distance
+from ..high_accuracy import high_accuracy_distance
 from ..errors import InvalidSourceError, UnsupportedDomainError
 from .funnel import Piece
 from .straighten import straighten
