@@ -9,8 +9,8 @@
 
 All factorizations are built in the constructor (with ``accuracy="high"`` and
 numba, on first need: its distances come from fast marching, see
-:mod:`heatcore.high_accuracy`); :meth:`HeatSolver.distance` only runs
-triangular solves and sparse products, :meth:`HeatSolver.distances` many at once. The steps' own numerics live beside this
+:mod:`heatcore.high_accuracy`); :meth:`HeatSolver.distance` only runs triangular
+solves and sparse products, :meth:`HeatSolver.distances` many at once. The steps' own numerics live beside this
 module, in :mod:`heatcore.steps`: the time step's underflow guard, the heat flow (step 1), the
 unit field (step 2), the pinned Poisson solve (step 3) and the blocks of many sources.
 
@@ -169,13 +169,13 @@ class HeatSolver(VoronoiQueries, PathQueries):
 
     @property
     def heat_flow(self):
-        """Step 1, the heat flow (:class:`~heatcore.steps.heat_flow.HeatFlow`), factored on first use where it waits."""
+        """Step 1, :class:`~heatcore.steps.heat_flow.HeatFlow` (factored here where it waits)."""
         self._factor_pending()
         return self._heat_flow
 
     @property
     def poisson(self):
-        """Step 3, the pinned Poisson solve (:class:`~heatcore.steps.poisson.PinnedPoisson`), factored on first use where it waits."""
+        """Step 3, :class:`~heatcore.steps.poisson.PinnedPoisson` (factored here where it waits)."""
         self._factor_pending()
         return self._poisson
 

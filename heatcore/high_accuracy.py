@@ -92,6 +92,7 @@ def march_from_pins(domain, pins, tol=TOL):
     try:
         readers = _READERS[domain]
     except KeyError:
-        readers = _READERS[domain] = fast_marching.Readers(domain.operators.n_vertices, *corner_layout(*domain.eikonal_triangles()))
+        corners = corner_layout(*domain.eikonal_triangles())
+        readers = _READERS[domain] = fast_marching.Readers(domain.operators.n_vertices, *corners)
     fast_marching.march(readers, d, pins.vertices, tol)
     return np.ldexp(d, domain.operators.unit_exponent)
