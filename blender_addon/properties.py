@@ -39,7 +39,7 @@ HEATCORE_OPTIONS = ("m", "boundary", "accuracy", "robust", "backend", "colormap"
 SOLVER_OPTIONS = ("m", "boundary", "accuracy", "robust", "backend")
 
 #: Enum labels that are not the choice capitalized (library names).
-CHOICE_LABELS = {"qdldl": "QDLDL", "cholmod": "CHOLMOD", "superlu": "SuperLU"}
+CHOICE_LABELS = {"qdldl": "QDLDL", "cholmod": "CHOLMOD", "superlu": "SuperLU", "gpu": "GPU"}
 
 SPACE_ITEMS = [
     ("WORLD", "World", "Measure in scene units: the object's scale, rotation and parents applied"),

@@ -79,7 +79,7 @@ class HeatSolver(VoronoiQueries, PathQueries):
         "smooth" is the heat method as the paper describes it (``m`` controls
         smoothing). "high": an eikonal pass (:mod:`heatcore.high_accuracy`),
         0.1-0.3% error; triangle meshes only.
-    backend : {"auto", "supernodal", "qdldl", "cholmod", "superlu"}
+    backend : {"auto", "supernodal", "qdldl", "cholmod", "superlu", "gpu"}
         Sparse factorization backend (see :mod:`heatcore.linalg`).
     progress : callable, optional
         ``progress(fraction, message)`` at the start of each stage (connected components, each

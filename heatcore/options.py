@@ -253,12 +253,12 @@ _OPTIONS = (
     Option(
         "backend", "linear-algebra backend", str, "auto", "none (a choice)",
         "sparse factorization backend: auto picks by size (see heatcore.linalg)",
-        "solver", choices=("auto", "supernodal", "qdldl", "cholmod", "superlu"),
+        "solver", choices=("auto", "supernodal", "qdldl", "cholmod", "superlu", "gpu"),
         choice_help=("The fastest installed library for the mesh size (recommended)",
                      "CHOLMOD's supernodal Cholesky through cvxopt: fastest factorization of large meshes",
                      "QDLDL's simplicial LDL^T: fast factorization of small and medium meshes",
-                     "CHOLMOD through cholespy: the fastest solves",
-                     "SciPy's SuperLU: always present, slowest"),
+                     "CHOLMOD through cholespy: the fastest solves", "SciPy's SuperLU: always present, slowest",
+                     "cuDSS on an NVIDIA GPU (the gpu extra): millions of vertices"),
         ui_label="Backend",
     ),
     Option(

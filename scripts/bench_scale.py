@@ -15,6 +15,7 @@ Usage::
 
     python scripts/bench_scale.py --out docs/scale.md --plot docs/images/scale.png
     python scripts/bench_scale.py --meshes nefertiti:0,nefertiti:1 --solvers heatcore,potpourri3d-robust
+    python scripts/bench_scale.py --meshes sphere:408,sphere:913 --solvers heatcore,heatcore-gpu  # 1M, 5M
 
 Needs the ``bench`` extra (gdist, potpourri3d, libigl, pymeshlab) and matplotlib.
 """
@@ -40,6 +41,8 @@ SOLVERS = [
     "meshlab-heat",
     "meshlab-geodesic",
 ]
+#: Also measurable, not run by default: "heatcore-gpu" (backend="gpu": cuDSS on an NVIDIA GPU, the gpu extra).
+OPTIONAL_SOLVERS = ["heatcore-gpu"]
 QUERY_SOURCES = (0, 1, 2, 3)  # first query from vertex 0, then three cached ones
 
 
@@ -99,13 +102,18 @@ def peak_rss_gb():
 
 
 def run_solver(solver, V, F):
-    """(precompute seconds, [query seconds], distance from vertex 0) for one solver."""
-    if solver in ("heatcore", "heatcore-high"):
+    """(precompute seconds, [query seconds], distance from vertex 0, {stage: seconds}) for one solver."""
+    timings = {}
+    if solver.startswith("heatcore"):
         import heatcore as hc
 
         start = time.perf_counter()
-        s = hc.HeatSolver(hc.TriangleMesh(V, F), accuracy="high" if solver == "heatcore-high" else "smooth")
+        mesh = hc.TriangleMesh(V, F)
+        build = time.perf_counter() - start
+        s = hc.HeatSolver(mesh, accuracy="high" if solver == "heatcore-high" else "smooth",
+                          backend="gpu" if solver == "heatcore-gpu" else "auto")
         pre = time.perf_counter() - start
+        timings.update({"mesh build": build, **s.timings})
         query = lambda v: s.distance([v])
     elif solver.startswith("potpourri3d"):
         import potpourri3d as pp3d
@@ -150,16 +158,16 @@ def run_solver(solver, V, F):
         times.append(time.perf_counter() - start)
         if first is None:
             first = np.asarray(d, dtype=float)
-    return pre, times, first
+    return pre, times, first, timings
 
 
 def child(args):
     """Run one solver on one mesh; print a JSON line; save distances at the original vertices."""
     name, levels = args.child.split(":")
     V0, _, V, F = load(args.mesh_dir, name, int(levels))
-    pre, times, d = run_solver(args.solver, V, F)
+    pre, times, d, timings = run_solver(args.solver, V, F)
     np.save(args.save, d[: len(V0)])
-    print(json.dumps({"precompute": pre, "queries": times, "rss_gb": peak_rss_gb(), "n": len(V)}))
+    print(json.dumps({"precompute": pre, "queries": times, "rss_gb": peak_rss_gb(), "n": len(V), "timings": timings}))
 
 
 def exact_on_coarse(mesh_dir, spec, cache):
@@ -211,7 +219,7 @@ def main():
     parser.add_argument(
         "--meshes", default=DEFAULT_MESHES, help="name:levels,... (midpoint subdivision levels), or sphere:K (cube sphere)"
     )
-    parser.add_argument("--solvers", default=",".join(SOLVERS))
+    parser.add_argument("--solvers", default=",".join(SOLVERS), help=f"also: {', '.join(OPTIONAL_SOLVERS)}")
     parser.add_argument("--timeout", type=int, default=900, help="seconds per solver and mesh")
     parser.add_argument("--workdir", default="/tmp/heatcore-bench-scale")
     parser.add_argument("--out", default=None, help="markdown report")

@@ -191,8 +191,11 @@ def spot_folder(tmp_path, count):
 
 def start_batch(folder, out, *extra):
     cmd = [sys.executable, "-m", "heatcore", "batch", str(folder), "-o", str(out), "-q", *extra]
+    # SIGINT back to its default: a suite started in the background of a shell inherits it ignored,
+    # and so would the batch (Ctrl-C is what these tests send)
     return subprocess.Popen(cmd, cwd=REPO, start_new_session=True, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.PIPE, text=True)
+                            stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
 
 
 def wait_for(predicate, timeout=60.0):

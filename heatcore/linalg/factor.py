@@ -48,6 +48,7 @@ BACKENDS = {
     "qdldl": ("qdldl", "QDLDLFactor", "qdldl"),
     "cholmod": ("cholmod", "CholmodFactor", "cholespy"),
     "superlu": ("superlu", "SuperLUFactor", None),
+    "gpu": ("gpu", "GPUFactor", "nvmath"),  # by name only: "auto" never picks it
 }
 
 
@@ -153,14 +154,18 @@ def available_backends():
     Returns
     -------
     list of str
-        Some of "supernodal", "qdldl", "cholmod", then "superlu" (always).
+        Some of "supernodal", "qdldl", "cholmod", then "superlu" (always), then
+        "gpu" where nvmath-python and a CUDA GPU are there.
 
     Examples
     --------
-    >>> available_backends()[-1]
-    'superlu'
+    >>> "superlu" in available_backends()
+    True
     """
-    return [name for name, (_, _, library) in BACKENDS.items() if library is None or optional(library) is not None]
+    usable = [name for name, (_, _, library) in BACKENDS.items() if library is None or optional(library) is not None]
+    if "gpu" in usable and importlib.import_module(".gpu", __package__).gpu_count() == 0:
+        usable.remove("gpu")
+    return usable
 
 
 def choose_backend(n, prefer="factor"):
@@ -213,7 +218,7 @@ def factor(A, backend="auto", prefer="factor", ordering=None):
     Parameters
     ----------
     A : (n, n) sparse matrix
-    backend : {"auto", "supernodal", "qdldl", "cholmod", "superlu"}
+    backend : {"auto", "supernodal", "qdldl", "cholmod", "superlu", "gpu"}
     prefer : {"factor", "solve"}
         What "auto" optimizes: the factorization (a matrix rebuilt often) or
         the solves (a matrix kept for many solves).
@@ -246,7 +251,7 @@ def factor(A, backend="auto", prefer="factor", ordering=None):
         raise SolverError(f"unknown linear-algebra backend {backend!r}; use one of {available_backends()}")
     module, factor_class, library = BACKENDS[backend]
     if library is not None and optional(library) is None:
-        extra = ": pip install 'heatcore[scale]'" if backend == "supernodal" else ""
+        extra = {"supernodal": ": pip install 'heatcore[scale]'", "gpu": " (cuDSS): pip install 'heatcore[gpu]'"}.get(backend, "")
         raise SolverError(f"backend {backend!r} needs the {library} package{extra}")
     # The backend's module is imported on first use, like its library.
     return getattr(importlib.import_module(f".{module}", __package__), factor_class)(A, ordering)

@@ -34,6 +34,7 @@ log = logging.getLogger(__name__)
 #: Each optional library, with the submodules that importing it must load too.
 SUBMODULES = {
     "cvxopt": ("cvxopt.cholmod", "cvxopt.amd"),
+    "nvmath": ("nvmath.sparse.advanced",),
 }
 
 #: The versions whose internals heatcore's ctypes readers were written against and
