@@ -259,7 +259,7 @@ _OPTIONS = (
                      "QDLDL's simplicial LDL^T: fast factorization of small and medium meshes",
                      "CHOLMOD through cholespy: the fastest solves", "SciPy's SuperLU: always present, slowest",
                      "cuDSS on an NVIDIA GPU (the gpu extra): millions of vertices"),
-        ui_label="Backend",
+        flag="--backend", ui_label="Backend",
     ),
     Option(
         "robust", "robust setting", bool, True, "none (on or off)",

@@ -169,7 +169,7 @@ def test_cli_routes_each_option_to_its_declared_target():
     args = subparser("distance").parse_args(["x.ply", "--m", "3", "--refine", "2", "--no-weld", "--no-robust"])
     kw = cli.solver_keywords(args)
     assert kw == {"mesh": {"robust": False, "refine": 2, "weld": None},
-                  "solver": {"m": 3.0, "boundary": "robin", "accuracy": "smooth"}}
+                  "solver": {"m": 3.0, "boundary": "robin", "accuracy": "smooth", "backend": "auto"}}
     assert all(OPTIONS[n].target == target for target, d in kw.items() for n in d)
 
 

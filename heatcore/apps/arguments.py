@@ -11,7 +11,7 @@ Examples
 >>> p = _Parser(prog="demo")
 >>> add_solver_options(p)
 >>> solver_keywords(p.parse_args(["--m", "2", "--no-weld"]))
-{'mesh': {'robust': True, 'refine': 'auto', 'weld': None}, 'solver': {'m': 2.0, 'boundary': 'robin', 'accuracy': 'smooth'}}
+{'mesh': {'robust': True, 'refine': 'auto', 'weld': None}, 'solver': {'m': 2.0, 'boundary': 'robin', 'accuracy': 'smooth', 'backend': 'auto'}}
 """
 
 import argparse
@@ -24,7 +24,7 @@ from ..io.mesh import short
 from .inputs import _non_negative_int, _positive_float, _vertex_index
 
 #: Options of :mod:`heatcore.options` on the command line of ``distance``, ``demo`` and ``batch``.
-SOLVER_OPTIONS = ("m", "boundary", "accuracy", "robust", "refine", "weld")
+SOLVER_OPTIONS = ("m", "boundary", "accuracy", "backend", "robust", "refine", "weld")
 
 
 class _Parser(argparse.ArgumentParser):
