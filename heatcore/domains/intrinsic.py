@@ -224,7 +224,7 @@ class IntrinsicTriangulation:
         candidates = np.flatnonzero(self.twin > np.arange(self.twin.size))
         for _ in range(max_rounds):
             h, t = candidates, self.twin[candidates]
-            cot_sum = _corner_cotangent(self.lengths, h) + _corner_cotangent(self.lengths, t)
+            cot_sum = _opposite_cotangent_sums(self.lengths, h, t)
             f0, f1 = h // 3, t // 3
             # The tolerance follows the rounding of the cotangents, (a^2 + b^2 - c^2) / 4A: on needle
             # triangles it is large, and two cocircular configurations would otherwise flip forever.
@@ -347,10 +347,16 @@ def _independent_edges(f0, f1, score, n_faces):
     return (best[f0] == rank) & (best[f1] == rank)
 
 
+def _opposite_cotangent_sums(lengths, h, t):
+    """Sum of the cotangents of the corners opposite half-edges ``h`` and their twins ``t``."""
+    if 2 * h.size > lengths.shape[0]:  # many faces: all of them at once, once, is faster
+        cotangents = corner_cotangents(lengths).ravel()
+        return cotangents[h] + cotangents[t]
+    return _corner_cotangent(lengths, h) + _corner_cotangent(lengths, t)
+
+
 def _corner_cotangent(lengths, h):
     """Cotangent of the corner opposite each half-edge ``h``."""
-    if 2 * h.size > lengths.shape[0]:  # many faces: all of them at once is faster
-        return corner_cotangents(lengths).ravel()[h]
     f, c = h // 3, h % 3
     sides = lengths[f]
     rows = np.arange(f.size)
