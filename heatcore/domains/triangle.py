@@ -142,7 +142,7 @@ class TriangleMesh(MeshDomain):
         n = self.vertices.shape[0]
         progress(0.0, "welding coincident vertices" if tolerance is not None else "reading the triangles")
         representative, self.n_welded = weld_map(self.vertices, tolerance) if tolerance is not None else (None, 0)
-        faces = self.faces if representative is None else representative[self.faces]
+        faces = representative[self.faces] if self.n_welded else self.faces  # no copy where nothing was welded
         kept = clean_elements(faces)
         if not kept.any():
             welded = " once coincident vertices are welded" if self.n_welded else ""
