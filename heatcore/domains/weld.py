@@ -68,7 +68,7 @@ def weld_map(V, tolerance=0.0):
         first = np.unique(group, return_index=True)[1]
     else:
         rows = np.ascontiguousarray(V + 0.0, dtype=np.float64)  # + 0.0 turns -0.0 into 0.0
-        if not _may_repeat(rows):  # most meshes: no sort of the rows (800k vertices: 0.03 s against 0.27 s)
+        if not _may_repeat(rows):  # most meshes: no sort of the rows (800k vertices: 0.05 s against 0.27 s)
             return np.arange(n), 0
         keys = rows.view(np.dtype((np.void, rows.itemsize * rows.shape[1]))).ravel()
         _, first, group = np.unique(keys, return_index=True, return_inverse=True)

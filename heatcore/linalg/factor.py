@@ -251,7 +251,8 @@ def factor(A, backend="auto", prefer="factor", ordering=None):
         raise SolverError(f"unknown linear-algebra backend {backend!r}; use one of {available_backends()}")
     module, factor_class, library = BACKENDS[backend]
     if library is not None and optional(library) is None:
-        extra = {"supernodal": ": pip install 'heatcore[scale]'", "gpu": " (cuDSS): pip install 'heatcore[gpu]'"}.get(backend, "")
+        extra = {"supernodal": ": pip install 'heatcore[scale]'",
+                 "gpu": " (cuDSS): pip install 'heatcore[gpu]'"}.get(backend, "")
         raise SolverError(f"backend {backend!r} needs the {library} package{extra}")
     # The backend's module is imported on first use, like its library.
     return getattr(importlib.import_module(f".{module}", __package__), factor_class)(A, ordering)
