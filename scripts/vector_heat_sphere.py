@@ -41,9 +41,7 @@ import time
 import numpy as np
 
 import heatcore as hc
-from heatcore.domains.intrinsic import IntrinsicTriangulation
-from heatcore.reference import exact_distance
-from heatcore.vector_heat.frames import vertex_frames
+from heatcore.reference import exact_directions
 
 
 def wrap(a):
@@ -55,45 +53,6 @@ def fitted_error(angle, reference, fit):
     """``|angle - reference|`` (wrapped) after the constant turn that fits best on ``fit`` (circular mean)."""
     d = wrap(angle - reference)
     return np.abs(wrap(d - np.angle(np.mean(np.exp(1j * d[fit])))))
-
-
-def first_segments(V, F, source, targets):
-    """Unit direction of the first segment of the edge-flip shortest path to each target, and each path's length."""
-    import potpourri3d as pp3d
-
-    paths = pp3d.EdgeFlipGeodesicSolver(V, F)
-    d, length = np.zeros((len(targets), 3)), np.zeros(len(targets))
-    for i, t in enumerate(targets):
-        path = paths.find_geodesic_path(int(source), int(t))
-        steps = np.diff(path, axis=0)
-        steps = steps[np.linalg.norm(steps, axis=1) > 0]
-        d[i], length[i] = steps[0] / np.linalg.norm(steps[0]), np.linalg.norm(steps, axis=1).sum()
-    return d, length
-
-
-def intrinsic_angles(V, F, source, d):
-    """Each direction ``d`` (leaving ``source`` inside one of its corners) as an angle of the source's scaled frame.
-
-    The corner is the one whose plane holds ``d`` (nearest) and whose angular
-    range contains it; the angle is the corner's start plus the angle from its
-    first side, times ``2π/Θ`` (``heatcore.vector_heat.frames``). NaN where no
-    corner fits.
-    """
-    frames = vertex_frames(IntrinsicTriangulation.from_mesh(V, F), len(V))
-    k = np.flatnonzero(frames.vertex == source)
-    f, c = np.divmod(k, 3)
-    a = V[F[f, (c + 1) % 3]] - V[source]
-    b = V[F[f, (c + 2) % 3]] - V[source]
-    normal = np.cross(a, b)
-    normal /= np.linalg.norm(normal, axis=1)[:, None]
-    side = a / np.linalg.norm(a, axis=1)[:, None]
-    off_plane = np.abs(d @ normal.T)  # (targets, corners)
-    psi = np.arctan2(np.einsum("tx,kx->tk", d, np.cross(normal, side)), d @ side.T)
-    inside = (psi >= -1e-6) & (psi <= frames.angle[k] + 1e-6) & (off_plane < 1e-3)
-    best = np.argmin(np.where(inside, off_plane, np.inf), axis=1)
-    rows = np.arange(len(d))
-    out = frames.start[k][best] + frames.scale[source] * psi[rows, best]
-    return np.where(inside[rows, best], out, np.nan)
 
 
 def projected_angles(d, normal, e1):
@@ -125,11 +84,9 @@ def main():
     if args.sample:
         targets = np.sort(np.random.default_rng(0).choice(targets, args.sample, replace=False))
     start = time.perf_counter()
-    d, length = first_segments(V, F, source, targets)
+    found = exact_directions(V, F, source, targets)
     print(f"{len(targets):,} edge-flip paths in {time.perf_counter() - start:.0f} s")
-    exact_d = exact_distance(V, F, source)[targets]
-    shortest = length <= exact_d * (1 + 1e-12)
-    exact = intrinsic_angles(V, F, source, d)
+    d, length, exact_d, shortest, exact = found.direction, found.length, found.distance, found.shortest, found.angle
     good = shortest & np.isfinite(exact)
     print(f"paths longer than MMP's distance (left out): {(~shortest).sum()}; "
           f"max |length / MMP - 1| of the rest: {np.abs(length[shortest] / exact_d[shortest] - 1).max():.1e}; "

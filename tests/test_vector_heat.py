@@ -14,6 +14,7 @@ from scipy.spatial import Delaunay
 import heatcore as hc
 from heatcore.domains.intrinsic import IntrinsicTriangulation
 from heatcore.errors import InvalidMeshError, InvalidOptionError, InvalidSourceError
+from heatcore.reference import exact_directions
 from heatcore.vector_heat.frames import vertex_frames
 
 
@@ -173,35 +174,6 @@ def test_transport_from_the_pole_is_parallel_along_meridians():
     assert np.allclose(np.linalg.norm(X, axis=1), 1.0)
 
 
-def exact_path_angles(V, F, source, targets):
-    """The initial direction of potpourri3d's edge-flip path to each target, in the source's scaled frame.
-
-    Also whether the path is the shortest (its length within 1e-12 of MMP's distance; the others are
-    locally shortest only). The corner the path leaves through holds its first segment; the angle from
-    the corner's first side is scaled by 2π/Θ, as in heatcore's and potpourri3d's frames.
-    """
-    import potpourri3d as pp3d
-
-    paths = pp3d.EdgeFlipGeodesicSolver(V, F)
-    d, length = np.zeros((len(targets), 3)), np.zeros(len(targets))
-    for i, t in enumerate(targets):
-        steps = np.diff(paths.find_geodesic_path(source, int(t)), axis=0)
-        steps = steps[np.linalg.norm(steps, axis=1) > 0]
-        d[i], length[i] = steps[0] / np.linalg.norm(steps[0]), np.linalg.norm(steps, axis=1).sum()
-    frames = vertex_frames(IntrinsicTriangulation.from_mesh(V, F), len(V))
-    k = np.flatnonzero(frames.vertex == source)
-    f, c = np.divmod(k, 3)
-    a, b = V[F[f, (c + 1) % 3]] - V[source], V[F[f, (c + 2) % 3]] - V[source]
-    normal = np.cross(a, b) / np.linalg.norm(np.cross(a, b), axis=1)[:, None]
-    side = a / np.linalg.norm(a, axis=1)[:, None]
-    psi = np.arctan2(d @ np.cross(normal, side).T, d @ side.T)
-    off_plane = np.where((psi >= -1e-6) & (psi <= frames.angle[k] + 1e-6), np.abs(d @ normal.T), np.inf)
-    best = np.argmin(off_plane, axis=1)
-    angle = frames.start[k][best] + frames.scale[source] * psi[np.arange(len(d)), best]
-    shortest = (length <= exact_distance(V, F, source)[targets] * (1 + 1e-12)) & (off_plane.min(axis=1) < 1e-3)
-    return angle, shortest
-
-
 def test_sphere_angle_against_exact_polyhedral_geodesics_as_close_as_potpourri():
     """Against the polyhedron's own shortest paths (not the smooth sphere's longitude) heatcore's default is
     no further than potpourri3d (scripts/vector_heat_sphere.py: 0.00161 against 0.00158 rad at 10,242 vertices)."""
@@ -211,8 +183,9 @@ def test_sphere_angle_against_exact_polyhedral_geodesics_as_close_as_potpourri()
     great = np.arccos(np.clip(V @ V[0], -1, 1))
     others = np.flatnonzero((great > 0) & (great < np.pi - 1e-6))  # not the source, not the antipode
     targets = np.random.default_rng(0).choice(others, 200, replace=False)
-    exact, shortest = exact_path_angles(V, F, 0, targets)
-    targets, exact = targets[shortest], exact[shortest]  # 152 of 200 are the shortest paths
+    found = exact_directions(V, F, 0, targets)
+    shortest = found.shortest & np.isfinite(found.angle)
+    targets, exact = targets[shortest], found.angle[shortest]  # 152 of 200 are the shortest paths
     near = great[targets] < np.pi / 2
 
     def error(L):  # mean angle error after the best rotation (circular mean over the near hemisphere)
