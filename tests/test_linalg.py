@@ -116,8 +116,28 @@ def test_auto_choice_by_size():
     assert linalg.choose_backend(1000, "solve") == "cholmod"
     big = linalg.SUPERNODAL_MIN_SIZE
     assert linalg.choose_backend(big, "factor") == linalg.choose_backend(big, "solve") == "supernodal"
+    assert linalg.choose_backend(1000, "once") == "supernodal"  # one query: the fastest factorization
     with pytest.raises(hc.SolverError):
         linalg.factor(heat_matrix(4, 4), "nope")
+    with pytest.raises(hc.SolverError, match="prefer"):
+        linalg.choose_backend(1000, "fast")
+
+
+def test_one_query_uses_the_fastest_factorization(monkeypatch):
+    """geodesic_distance factors for one query (supernodal, or qdldl without cvxopt): the same distances."""
+    V, F = grid(21, 21)
+    chosen = []
+    original = hc.HeatSolver.__init__
+    monkeypatch.setattr(hc.HeatSolver, "__init__", lambda self, *a, **kw: (chosen.append(kw["backend"]),
+                                                                           original(self, *a, **kw))[1])
+    d = hc.geodesic_distance(V, F, [0], refine=0)
+    reference = hc.HeatSolver(hc.TriangleMesh(V, F, refine=0), backend="superlu").distance([0])
+    assert chosen[0] == "supernodal"
+    assert np.allclose(d, reference, rtol=1e-9, atol=1e-12)
+    monkeypatch.setitem(libraries._modules, "cvxopt", None)
+    assert linalg.choose_backend(1000, "once") == "qdldl"
+    assert np.allclose(hc.geodesic_distance(V, F, [0], refine=0), reference, rtol=1e-9, atol=1e-12)
+    assert chosen[-1] == "qdldl"
 
 
 def test_many_pins_use_the_shared_ordering():

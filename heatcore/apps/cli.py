@@ -76,7 +76,7 @@ DEMO_VIEW = {"elevation": 15.0, "azimuth": 150.0, "up": "y"}
 
 
 def build_solver(source, args):
-    """Domain + HeatSolver from a :class:`~heatcore.io.domain.DomainFile` and the solver options.
+    """Domain + HeatSolver for one query, from a :class:`~heatcore.io.domain.DomainFile` and the solver options.
 
     Examples
     --------
@@ -87,11 +87,15 @@ def build_solver(source, args):
     (2930,)
     """
     from ..heat import HeatSolver
+    from ..linalg import choose_backend
 
     kw = solver_keywords(args)
     domain_progress, solver_progress = build_progress(len(source.vertices))
     with _stage("precompute"):
-        solver = HeatSolver(source.domain(**kw["mesh"], progress=domain_progress), **kw["solver"], progress=solver_progress)
+        domain = source.domain(**kw["mesh"], progress=domain_progress)
+        if kw["solver"]["backend"] == "auto":  # one query: the backend that factors fastest
+            kw["solver"]["backend"] = choose_backend(domain.operators.n_vertices, "once")
+        solver = HeatSolver(domain, **kw["solver"], progress=solver_progress)
     welded = getattr(solver.domain, "n_welded", 0)
     if welded:
         log.info("welded %s coincident vertices: %s remain", f"{welded:,}", f"{len(source.vertices) - welded:,}")

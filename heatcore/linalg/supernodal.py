@@ -28,7 +28,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import SolverError
-from .factor import Factor, canonical_csr
+from .factor import SUPERNODAL_MIN_SIZE, Factor, canonical_csr
 from .libraries import optional
 from .memory import release_free_memory
 from .sparse_rhs import SparseForwardSolver
@@ -169,7 +169,8 @@ class SupernodalFactor(Factor):
         self.n = A.shape[0]
         A = canonical_csr(A)
         C = _lower_triangle(A, ordering)
-        release_free_memory()
+        if self.n >= SUPERNODAL_MIN_SIZE:  # a large factor: worth the heap walk (1.5 ms even when small)
+            release_free_memory()
         try:
             if ordering is None:
                 with cholmod_options(supernodal=2, nmethods=0):  # supernodal; CHOLMOD's default orderings
