@@ -141,10 +141,10 @@ def geodesic_distance(
     kinds = {"points": points, "edges": edges, "region": region, "face_points": face_points, "faces": faces}
     kinds = source_keywords({k: v for k, v in kinds.items() if v is not None or k in ("points", "edges", "region")},
                             stacklevel=3)
-    from .linalg import choose_backend
+    from .linalg import one_query_backend
 
     mesh = TriangleMesh(V, F, robust=opts["robust"], refine=opts["refine"], weld=opts["weld"])
     # One query: the backend that factors fastest, not the one that solves fastest.
     solver = HeatSolver(mesh, m=opts["m"], boundary=opts["boundary"], accuracy=opts["accuracy"],
-                        backend=choose_backend(mesh.operators.n_vertices, "once"))
+                        backend=one_query_backend("auto", mesh.operators.n_vertices))
     return solver.distance(sources, **kinds)

@@ -76,7 +76,8 @@ DEMO_VIEW = {"elevation": 15.0, "azimuth": 150.0, "up": "y"}
 
 
 def build_solver(source, args):
-    """Domain + HeatSolver for one query, from a :class:`~heatcore.io.domain.DomainFile` and the solver options.
+    """Domain + HeatSolver for one query (the backend that factors fastest), from a
+    :class:`~heatcore.io.domain.DomainFile` and the solver options.
 
     Examples
     --------
@@ -86,16 +87,14 @@ def build_solver(source, args):
     >>> solver.distance([0]).shape
     (2930,)
     """
-    from ..heat import HeatSolver
-    from ..linalg import choose_backend
+    from .. import HeatSolver, linalg
 
     kw = solver_keywords(args)
     domain_progress, solver_progress = build_progress(len(source.vertices))
     with _stage("precompute"):
         domain = source.domain(**kw["mesh"], progress=domain_progress)
-        if kw["solver"]["backend"] == "auto":  # one query: the backend that factors fastest
-            kw["solver"]["backend"] = choose_backend(domain.operators.n_vertices, "once")
-        solver = HeatSolver(domain, **kw["solver"], progress=solver_progress)
+        backend = linalg.one_query_backend(kw["solver"].pop("backend"), domain.operators.n_vertices)
+        solver = HeatSolver(domain, **kw["solver"], backend=backend, progress=solver_progress)
     welded = getattr(solver.domain, "n_welded", 0)
     if welded:
         log.info("welded %s coincident vertices: %s remain", f"{welded:,}", f"{len(source.vertices) - welded:,}")
@@ -311,6 +310,7 @@ command("logmap", arguments=logmap_arguments,
         "units (decal UVs). Output by extension: .ply (vertex texture coordinates, read as a UV map by "
         "Blender and as texture coordinates by MeshLab; the distance as quality and colors), .npy or .csv "
         "(index,u,v); unreachable vertices get inf.")(run_logmap)
+command("path", arguments=path_arguments, help=PATH_HELP, description=PATH_DESCRIPTION)(run_path)
 
 
 # --------------------------------------------------------------------------- batch
@@ -355,11 +355,6 @@ def run_batch_command(args):
     print(f"wrote {args.output_dir / SUMMARY_NAME}: {counts['ok']} done, {counts['skipped']} skipped "
           f"(already done), {counts['error']} failed")
     return 0 if counts["error"] == 0 else 1
-
-
-# --------------------------------------------------------------------------- path
-
-command("path", arguments=path_arguments, help=PATH_HELP, description=PATH_DESCRIPTION)(run_path)
 
 
 # --------------------------------------------------------------------------- main

@@ -52,6 +52,7 @@ from .factor import (
     Factor,
     available_backends,
     choose_backend,
+    one_query_backend,
     factor,
 )
 from .columns import solve_columns
@@ -72,6 +73,7 @@ __all__ = [
     "Ordering",
     "available_backends",
     "choose_backend",
+    "one_query_backend",
     "factor",
     "fill_reducing_ordering",
     "release_free_memory",

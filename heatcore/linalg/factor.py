@@ -223,6 +223,28 @@ def choose_backend(n, prefer="factor"):
     return "cholmod" if "cholmod" in backends else backends[0]
 
 
+def one_query_backend(backend, n):
+    """The backend for a solver asked a single query: ``backend``, or for "auto" the fastest to factor.
+
+    Parameters
+    ----------
+    backend : str
+        The backend option ("auto" or a name).
+    n : int
+        The number of unknowns.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> one_query_backend("superlu", 10), one_query_backend("auto", 10) == choose_backend(10, "once")
+    ('superlu', True)
+    """
+    return choose_backend(n, "once") if backend == "auto" else backend
+
+
 def factor(A, backend="auto", prefer="factor", ordering=None):
     """Factor a sparse symmetric positive definite matrix once.
 
