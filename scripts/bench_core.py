@@ -147,6 +147,9 @@ def write_report(path, rows, timings, n_vertices):
         f"| ratio heatcore / potpourri3d | **{hc_pre / pp_pre:.2f}x** (target <= 1.5x) | "
         f"**{hc_q / pp_q:.2f}x** (target <= 0.5x) |",
         "",
+        "The first distance on small meshes, end to end: [first-distance.md](first-distance.md)",
+        "(`scripts/bench_first_distance.py`).",
+        "",
     ]
     Path(path).write_text("\n".join(lines))
     print("\n".join(lines))
