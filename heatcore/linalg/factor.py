@@ -177,7 +177,7 @@ def choose_backend(n, prefer="factor"):
     picks ``cholmod``, whose solves are 1.5x faster than ``supernodal``'s.
     ``prefer="once"`` (matrices factored for a single query, as
     :func:`heatcore.geodesic_distance` does) picks ``supernodal`` at every
-    size where installed: it factors 2-6x faster than ``qdldl`` and
+    size where installed: it factors 2-7x faster than ``qdldl`` and
     ``cholmod`` below :data:`SUPERNODAL_MIN_SIZE` (11,714 unknowns: 8 ms after
     a 6 ms ordering shared by both matrices, against 20 ms and 51 ms), and
     solves a little slower. Without cvxopt, large matrices go to ``cholmod``
