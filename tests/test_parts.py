@@ -13,6 +13,7 @@ from conftest import exact_distance, load_shared_mesh, mean_relative_error
 
 import heatcore as hc
 from heatcore.domains.polygon import PolygonMesh
+from heatcore.steps.time_step import HEAT_DECADES_BUDGET, HOP_DECAY_FACTOR, heat_decay_per_hop
 
 
 def together(*meshes):
@@ -199,3 +200,14 @@ def test_polygon_indices_beyond_int64_are_reported_as_given():
         PolygonMesh(V, np.array([[0, 1, 2, 2**64 - 1]], dtype=np.uint64))
     with pytest.raises(hc.InvalidMeshError, match="offsets must start at 0"):
         PolygonMesh(V, (np.array([0, 2**64 - 1], dtype=np.uint64), np.arange(4)))
+
+
+def test_long_strip_raises_m_so_the_far_end_keeps_its_heat():
+    """3,000 hops: at m = 1 the heat would fall about 1,650 decades (underflow); m is raised just enough."""
+    V, F = strip(0.001, n=3001)
+    solver = hc.HeatSolver(hc.TriangleMesh(V, F, refine=0))
+    budget = solver.hop_diameter * HOP_DECAY_FACTOR * heat_decay_per_hop(solver.m_effective)
+    assert solver.m_effective > 10 and budget == pytest.approx(HEAT_DECADES_BUDGET, rel=1e-9)
+    d = solver.distance([0])
+    np.testing.assert_allclose(d[:3001], V[:3001, 0], rtol=0.02, atol=0.01)
+    assert hc.HeatSolver(hc.TriangleMesh(*strip(0.001), refine=0)).m_effective == 1.0  # 200 hops: no raise

@@ -53,7 +53,9 @@ def underflow_safe_m(hop_diameter, budget=HEAT_DECADES_BUDGET):
     With ``t = m h^2`` the heat falls by a constant factor per edge hop (about
     0.38 in 1D at m = 1), so on a mesh hundreds of hops across it underflows
     double precision and its gradient is noise. This returns the smallest
-    ``m`` whose decay over the diameter stays within ``budget`` decades.
+    ``m`` whose decay over the diameter stays within ``budget`` decades, in
+    closed form (the per-hop ratio ``r`` of :func:`heat_decay_per_hop` gives
+    ``m = r / (1 - r)^2``).
 
     Parameters
     ----------
@@ -74,18 +76,14 @@ def underflow_safe_m(hop_diameter, budget=HEAT_DECADES_BUDGET):
     2.42
     >>> underflow_safe_m(np.array([300, 700])).round(2).tolist()
     [0.38, 2.42]
+    >>> m = underflow_safe_m(700)
+    >>> round(float(700 * HOP_DECAY_FACTOR * heat_decay_per_hop(m)), 9)  # spends the budget exactly
+    250.0
+    >>> underflow_safe_m(0)
+    0.0
     """
     hops = np.asarray(hop_diameter, dtype=float)
-
-    def too_cold(m):
-        return hops * HOP_DECAY_FACTOR * heat_decay_per_hop(m) > budget
-
-    lo, hi = np.full(hops.shape, 1e-9), np.ones(hops.shape)
-    while too_cold(hi).any():
-        grow = too_cold(hi)
-        lo, hi = np.where(grow, hi, lo), np.where(grow, 2.0 * hi, hi)
-    for _ in range(60):  # bisection on log m; the decay falls as m grows
-        mid = np.sqrt(lo * hi)
-        cold = too_cold(mid)
-        lo, hi = np.where(cold, mid, lo), np.where(cold, hi, mid)
-    return float(hi) if hi.ndim == 0 else hi
+    with np.errstate(divide="ignore"):  # no hops: no decay to guard, m = 0
+        ratio = 10.0 ** -(budget / (HOP_DECAY_FACTOR * hops))  # the heat ratio per hop that spends the budget
+    m = ratio / (1.0 - ratio) ** 2  # inverts heat_decay_per_hop: m r^2 - (1 + 2m) r + m = 0 for m
+    return float(m) if m.ndim == 0 else m
