@@ -16,7 +16,7 @@ refinement, and potpourri3d run on the very mesh heatcore's default solves
 
 Usage::
 
-    python scripts/bench_first_distance.py --out table.md
+    python scripts/bench_first_distance.py --out table.md --plot docs/images/first_distance.png
 
 Needs the ``bench`` extra (gdist, potpourri3d).
 """
@@ -138,18 +138,55 @@ def write_markdown(path, rows, rounds, note):
     print(text)
 
 
+def plot(path, rows):
+    """Error against end-to-end time, one panel per mesh with an exact reference: the trade the table shows."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
+
+    rows = [r for r in rows if r["error"].get("heatcore") is not None]
+    fig, axes = plt.subplots(1, len(rows), figsize=(3.0 * len(rows), 3.9), sharey=True, squeeze=False)
+    markers = {"heatcore": ("o", "tab:red"), "heatcore refine=0": ("s", "tab:orange"),
+               "potpourri3d": ("^", "tab:blue"), "potpourri3d refined": ("v", "tab:cyan")}
+    for ax, r in zip(axes[0], rows):
+        for label, (marker, color) in markers.items():
+            if r["time"].get(label) is not None and r["error"].get(label) is not None:
+                ax.plot(1000 * r["time"][label], 100 * r["error"][label], marker, color=color, ms=8,
+                        label=SOLVERS[label])
+        ax.set_xscale("log")
+        ax.xaxis.set_major_locator(LogLocator(subs=(1, 2, 5)))
+        ax.xaxis.set_major_formatter(ScalarFormatter())
+        ax.xaxis.set_minor_formatter(NullFormatter())
+        ax.set_title(f"{r['mesh']} ({r['vertices']:,} vertices)", fontsize=9)
+        ax.set_xlabel("first distance (ms)")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.margins(x=0.2, y=0.15)
+    axes[0, 0].set_ylabel("mean relative error (%)")
+    axes[0, 0].set_ylim(0, None)
+    fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="lower center", ncol=2, fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0.14, 1, 1))
+    fig.savefig(path, dpi=110)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--mesh-dir", default=str(DEFAULT_MESH_DIR))
     parser.add_argument("--rounds", type=int, default=7)
     parser.add_argument("--out", default=None, help="markdown table")
     parser.add_argument("--note", default="", help="added after the date, e.g. ', quiet machine'")
+    parser.add_argument("--plot", default=None, help="PNG: error against time per mesh")
     parser.add_argument("--child", help=argparse.SUPPRESS)
     parser.add_argument("--labels", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
         return child(args.child, args.labels.split(","), args.rounds)
-    write_markdown(args.out, table(args.mesh_dir, args.rounds), args.rounds, args.note)
+    rows = table(args.mesh_dir, args.rounds)
+    write_markdown(args.out, rows, args.rounds, args.note)
+    if args.plot:
+        plot(args.plot, rows)
 
 
 if __name__ == "__main__":
