@@ -211,3 +211,19 @@ def test_long_strip_raises_m_so_the_far_end_keeps_its_heat():
     d = solver.distance([0])
     np.testing.assert_allclose(d[:3001], V[:3001, 0], rtol=0.02, atol=0.01)
     assert hc.HeatSolver(hc.TriangleMesh(*strip(0.001), refine=0)).m_effective == 1.0  # 200 hops: no raise
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_breadth_first_hops_equal_dijkstra(seed):
+    """One root: the search-tree depths by pointer jumping are Dijkstra's unweighted hops (inf off its part)."""
+    from scipy.sparse.csgraph import dijkstra
+
+    from heatcore.domains.parts import _hops_from, vertex_graph
+
+    rng = np.random.default_rng(seed)
+    edges = rng.integers(0, 400, (300, 2))
+    graph = vertex_graph(edges, 400)  # sparse: several parts and loose vertices
+    root = edges[:1, 0]
+    expected = dijkstra(graph, directed=True, indices=root, unweighted=True, min_only=True)
+    np.testing.assert_array_equal(_hops_from(graph, root), expected)
+    assert np.isinf(expected).any() and expected[np.isfinite(expected)].max() > 3

