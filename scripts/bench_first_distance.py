@@ -10,9 +10,10 @@ Errors are mean relative errors against exact MMP geodesics (gdist) from the
 same three source vertices as ``bench_core.py``, where gdist can run.
 
 Besides heatcore's default (``refine="auto"``: meshes under 11,000 vertices are
-midpoint-subdivided first) two columns explain the gap: heatcore without the
-refinement, and potpourri3d run on the very mesh heatcore's default solves
-(the midpoint-subdivided one).
+midpoint-subdivided first) three columns explain the gap: heatcore without the
+refinement, ``accuracy="high"`` without it (the compiled fast march of the
+``fast`` extra, where numba is installed), and potpourri3d run on the very mesh
+heatcore's default solves (the midpoint-subdivided one).
 
 Usage::
 
@@ -42,6 +43,7 @@ DEFAULT_MESH_DIR = Path(__file__).resolve().parents[1].parent / "shared" / "mesh
 SOLVERS = {
     "heatcore": "heatcore default",
     "heatcore refine=0": "heatcore, no refinement",
+    "heatcore high refine=0": "heatcore accuracy='high', no refinement",
     "potpourri3d": "potpourri3d robust",
     "potpourri3d refined": "potpourri3d robust on heatcore's refined mesh",
 }
@@ -53,6 +55,8 @@ def solve(label, V, F, source, refined):
         return hc.geodesic_distance(V, F, source)
     if label == "heatcore refine=0":
         return hc.geodesic_distance(V, F, source, refine=0)
+    if label == "heatcore high refine=0":
+        return hc.geodesic_distance(V, F, source, refine=0, accuracy="high")
     if label == "exact":
         return exact_distance(V, F, source)
     import potpourri3d as pp3d
@@ -124,14 +128,15 @@ def write_markdown(path, rows, rounds, note):
         "the solvers alternating; error: mean relative error against exact geodesics (gdist) over 3 sources.",
         "",
         "| mesh (vertices; heatcore's operator vertices) | heatcore default | ratio to potpourri3d | "
-        "heatcore refine=0 | potpourri3d robust | potpourri3d on the refined mesh |",
-        "|---|---:|---:|---:|---:|---:|",
+        "heatcore refine=0 | heatcore high, refine=0 | potpourri3d robust | potpourri3d on the refined mesh |",
+        "|---|---:|---:|---:|---:|---:|---:|",
     ]
     for r in rows:
         pp = r["time"].get("potpourri3d")
         ratio = "-" if pp is None else f"**{r['time']['heatcore'] / pp:.1f}x**"
         lines.append(f"| {r['mesh']} ({r['vertices']:,}; {r['operator_vertices']:,}) | {cell(r, 'heatcore')} | {ratio} | "
-                     f"{cell(r, 'heatcore refine=0')} | {cell(r, 'potpourri3d')} | {cell(r, 'potpourri3d refined')} |")
+                     f"{cell(r, 'heatcore refine=0')} | {cell(r, 'heatcore high refine=0')} | {cell(r, 'potpourri3d')} | "
+                     f"{cell(r, 'potpourri3d refined')} |")
     text = "\n".join(lines) + "\n"
     if path:
         Path(path).write_text(text)
@@ -150,6 +155,7 @@ def plot(path, rows):
     rows = [r for r in rows if r["error"].get("heatcore") is not None]
     fig, axes = plt.subplots(1, len(rows), figsize=(3.0 * len(rows), 3.9), sharey=True, squeeze=False)
     markers = {"heatcore": ("o", "tab:red"), "heatcore refine=0": ("s", "tab:orange"),
+               "heatcore high refine=0": ("D", "tab:green"),
                "potpourri3d": ("^", "tab:blue"), "potpourri3d refined": ("v", "tab:cyan")}
     for ax, r in zip(axes[0], rows):
         for label, (marker, color) in markers.items():
@@ -166,7 +172,7 @@ def plot(path, rows):
         ax.margins(x=0.2, y=0.15)
     axes[0, 0].set_ylabel("mean relative error (%)")
     axes[0, 0].set_ylim(0, None)
-    fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="lower center", ncol=2, fontsize=8, frameon=False)
+    fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="lower center", ncol=3, fontsize=8, frameon=False)
     fig.tight_layout(rect=(0, 0.14, 1, 1))
     fig.savefig(path, dpi=110)
 
