@@ -134,6 +134,7 @@ def geodesic_distance(
     True
     """
     from .domains.sources import source_keywords
+    from .linalg import one_query_backend
     from .options import check_all
 
     opts = check_all({"m": m, "boundary": boundary, "accuracy": accuracy, "robust": robust, "refine": refine,
@@ -141,8 +142,6 @@ def geodesic_distance(
     kinds = {"points": points, "edges": edges, "region": region, "face_points": face_points, "faces": faces}
     kinds = source_keywords({k: v for k, v in kinds.items() if v is not None or k in ("points", "edges", "region")},
                             stacklevel=3)
-    from .linalg import one_query_backend
-
     mesh = TriangleMesh(V, F, robust=opts["robust"], refine=opts["refine"], weld=opts["weld"])
     # One query: the backend that factors fastest, not the one that solves fastest.
     solver = HeatSolver(mesh, m=opts["m"], boundary=opts["boundary"], accuracy=opts["accuracy"],

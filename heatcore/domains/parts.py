@@ -229,8 +229,8 @@ def _hops_from(graph, roots):
     rank = np.empty(graph.shape[0], dtype=np.int64)
     rank[order] = np.arange(order.size)
     up = rank[up]  # ... as positions in ``order``
-    while (up != 0).any():  # pointer jumping: each step doubles the hops every ``up`` spans
-        depth += depth[up] * (up != 0)
+    while (up != 0).any():  # pointer jumping: ``depth`` counts the hops to ``up``; each step doubles the span
+        depth += depth[up]  # the root's depth is 0: nothing is added past it
         up = up[up]
     hops = np.full(graph.shape[0], np.inf)
     hops[order] = depth
