@@ -59,6 +59,7 @@ from .polygon_refine import (  # noqa: F401 (area_minimizer_weights: public here
     vertices_inside,
 )
 from .polygon_shape import fan_triangulate, simple_polygons  # noqa: F401 (fan_triangulate: public here too)
+from .polygon_triangulate import triangulate_concave, triangulate_polygons  # noqa: F401 (public here too)
 from .refine import unique_edges
 from .sources import edge_list, index_list
 from .cotan import triangle_operators
@@ -281,9 +282,10 @@ class PolygonMesh(MeshDomain):
         self.polygon_map = np.full(kept.size, -1, dtype=np.int64)
         self.polygon_map[kept] = np.arange(int(kept.sum()))
         refine = check("refine", refine)
-        offsets, indices, self._origin = simple_polygons(
+        offsets, indices, origin = simple_polygons(
             self.vertices, self.offsets, self.indices, np.flatnonzero(kept), split_crossing
         )
+        offsets, indices, self._origin, self.n_concave = triangulate_concave(self.vertices, offsets, indices, origin)
         used = np.unique(self.indices)
         self.vertex_map = np.full(n, -1, dtype=np.int64)
         self.vertex_map[used] = np.arange(used.size)

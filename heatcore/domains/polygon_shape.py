@@ -140,7 +140,7 @@ def crossing_polygons(X, offsets, corners):
     for k in np.unique(sizes[sizes > 3]):
         polygons = np.flatnonzero(sizes == k)
         P = X[corners[offsets[polygons][:, None] + np.arange(k)]]  # (p, k, 3)
-        flat = _plane_coordinates(P)
+        flat = plane_coordinates(P)
         a, b = np.triu_indices(k, 2)
         keep = (b - a) % k != k - 1  # sides k-1 and 0 share corner 0
         a, b = a[keep], b[keep]
@@ -151,8 +151,22 @@ def crossing_polygons(X, offsets, corners):
     return sorted(found)
 
 
-def _plane_coordinates(P):
-    """Corners ``(p, k, 3)`` projected along each polygon's normal, ``(p, k, 2)``."""
+def plane_coordinates(P):
+    """Corners ``(p, k, 3)`` projected along each polygon's normal, ``(p, k, 2)``.
+
+    The normal is the vector area (Newell's), or where that vanishes (a
+    bowtie) the direction of least variance; the 2D axes ``(u, v)`` make a
+    right-handed frame with it, so a polygon turning counterclockwise about
+    its vector area is counterclockwise in the plane.
+
+    Examples
+    --------
+    >>> square = np.array([[[0, 0, 5], [1, 0, 5], [1, 1, 5], [0, 1, 5]]], float)
+    >>> Q = plane_coordinates(square)[0]
+    >>> (u, v), (s, t) = Q[1] - Q[0], Q[2] - Q[0]
+    >>> round(float(u * t - v * s), 12)   # counterclockwise in the plane
+    1.0
+    """
     centered = P - P.mean(axis=1, keepdims=True)
     normal = 0.5 * np.cross(centered, np.roll(centered, -1, axis=1)).sum(axis=1)  # vector area
     spread = (centered**2).sum(axis=(1, 2))
