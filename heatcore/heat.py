@@ -53,6 +53,7 @@ from .steps.blocks import block_columns, source_sequence
 from .steps.boundary_source import BoundarySourceHeat
 from .steps.heat_flow import HeatFlow
 from .steps.poisson import MAX_PRECOMPUTED_PINS, PinnedPoisson, grounded
+from .steps.source_bounds import source_bounds
 from .steps.time_step import underflow_safe_m
 from .steps.unit_field import minus_divergence, minus_divergence_columns, unit_field
 from .voronoi import VoronoiQueries
@@ -234,7 +235,8 @@ class HeatSolver(VoronoiQueries, PathQueries):
         """
         pins = self.domain.source_pins(vertices, **source_keywords(sources, stacklevel=3))
         phi = np.append(self.distance_from_pins(pins), np.inf)
-        return phi[self.domain.output_vertices]  # index -1 (unreferenced) reads the appended inf
+        d = phi[self.domain.output_vertices]  # index -1 (unreferenced) reads the appended inf
+        return source_bounds(self.domain, vertices, sources).apply(d, self.domain.input_positions)
 
     def distance_from_pins(self, pins):
         """Distance at every operator vertex, in the input's units, for prepared :class:`~heatcore.domains.sources.SourcePins`.
@@ -313,8 +315,8 @@ class HeatSolver(VoronoiQueries, PathQueries):
         >>> solver.distances([]).shape
         (0, 2930)
         """
-        block = []
-        for source in source_sequence(sources_block):  # a loop, not a comprehension: warnings point at the caller
+        sources, block = source_sequence(sources_block), []
+        for source in sources:  # a loop, not a comprehension: warnings point at the caller
             block.append(self._block_source_pins(source))
         outputs = np.asarray(self.domain.output_vertices)
         rows = np.empty((len(block), outputs.size))
@@ -330,6 +332,10 @@ class HeatSolver(VoronoiQueries, PathQueries):
             extended[:, :-1] = phi.T
             extended[:, -1] = np.inf  # index -1 (unreferenced) reads inf
             rows[chunk] = extended[:, outputs]
+        for row, source in zip(rows, sources):
+            bounds = self._block_source_bounds(source)
+            if bounds is not None:
+                bounds.apply(row, self.domain.input_positions)
         return rows
 
     def block_columns(self, max_memory_mb=None):
@@ -351,6 +357,15 @@ class HeatSolver(VoronoiQueries, PathQueries):
             kinds = dict(source)
             return self.domain.source_pins(kinds.pop("vertices", None), **source_keywords(kinds, stacklevel=4))
         return self.domain.source_pins(source)
+
+    def _block_source_bounds(self, source):
+        """:class:`~heatcore.steps.source_bounds.SourceBounds` of one source of a block (None for prepared pins)."""
+        if isinstance(source, SourcePins):
+            return None
+        if isinstance(source, Mapping):
+            kinds = dict(source)
+            return source_bounds(self.domain, kinds.pop("vertices", None), kinds)
+        return source_bounds(self.domain, source, {})
 
     def _distances_from_pins(self, block):
         """:meth:`distance_from_pins` of several sources as columns ``(n, k)``."""

@@ -28,9 +28,13 @@ Examples
 """
 
 from abc import ABC, abstractmethod
+from functools import cached_property
+
+import numpy as np
+import scipy.sparse as sp
 
 from ..errors import InvalidSourceError
-from .sources import build_source_pins, index_list
+from .sources import barycentric_array, build_source_pins, index_list
 
 
 class Domain(ABC):
@@ -101,6 +105,72 @@ class Domain(ABC):
         """
         return build_source_pins(self, vertices, **kinds)
 
+    @property
+    @abstractmethod
+    def input_positions(self):
+        """``(n_input_vertices, 3)`` positions of the vertices (or points) as given, in the input's units."""
+
+    @cached_property
+    def straight_neighbours(self):
+        """Input vertices joined by a straight segment that lies in the domain, with its length: ``(n, n)`` CSR.
+
+        The sides of its triangles, polygons or tets: the distance between
+        such a pair is exactly the segment's length. Empty on a point cloud
+        (points are not joined by segments on the surface). Computed on first
+        use and kept with the domain.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from heatcore.domains import TriangleMesh
+        >>> A = TriangleMesh(np.array([[0, 0, 0], [3, 0, 0], [0, 4, 0]], float), [[0, 1, 2]], refine=0).straight_neighbours
+        >>> A.toarray().tolist()
+        [[0.0, 3.0, 4.0], [3.0, 0.0, 5.0], [4.0, 5.0, 0.0]]
+        """
+        a, b = self._element_sides()
+        n = self.n_input_vertices
+        keys = np.unique(np.minimum(a, b) * n + np.maximum(a, b))
+        a, b = keys // n, keys % n
+        a, b = a[a != b], b[a != b]
+        X = self.input_positions
+        lengths = np.linalg.norm(X[a] - X[b], axis=1)
+        return sp.csr_matrix((np.r_[lengths, lengths], (np.r_[a, b], np.r_[b, a])), shape=(n, n))
+
+    def _element_sides(self):
+        """Start and end (input vertex indices) of every side of every kept element."""
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+
+    def point_corners(self, points):
+        """Input vertices of the elements that ``points=(element_indices, barycentric)`` sources lie in, ``(k, c)``.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from heatcore.domains import TriangleMesh
+        >>> TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0).point_corners(([0], [[0.5, 0.5, 0.0]])).tolist()
+        [[0, 1, 2]]
+        """
+        elements = self._point_elements()
+        return elements[index_list(points[0], elements.shape[0], self.element_name)]
+
+    def point_positions(self, points):
+        """Positions of ``points=(element_indices, barycentric)`` sources, ``(k, 3)`` in the input's units.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from heatcore.domains import TriangleMesh
+        >>> TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0).point_positions(([0], [[0.5, 0.5, 0.0]])).tolist()
+        [[0.5, 0.5, 0.0]]
+        """
+        corners = self.point_corners(points)
+        weights = barycentric_array(points[1], corners.shape[0], corners.shape[1])
+        return np.einsum("kc,kcd->kd", weights, self.input_positions[corners])
+
+    def _point_elements(self):
+        """The input elements (vertex indices) that ``points`` sources name by index."""
+        raise NotImplementedError  # reached only for a domain that lists "points" in source_kinds
+
     @abstractmethod
     def _pin_vertices(self, vertices, pins):
         """Add source ``vertices`` (input indices) to ``pins``, a :class:`~heatcore.domains.sources.PinBuilder`."""
@@ -163,6 +233,11 @@ class MeshDomain(Domain):
     def output_vertices(self):
         """Operator vertex of each input vertex (``-1`` where unreferenced)."""
         return self.vertex_map
+
+    @property
+    def input_positions(self):
+        """The input vertices, ``(n, 3)``."""
+        return self.vertices
 
     def _referenced(self, v):
         """Operator vertices of input vertices ``v``; a typed error for one no element uses."""

@@ -377,6 +377,11 @@ class PolygonMesh(MeshDomain):
         time_h = h * np.where(refined, np.sqrt(REFINED_TIME_FACTOR), 1.0)
         return Operators(L, mass, G, fan_ops.volumes, 2, boundary, elements, time_h[part])
 
+    def _element_sides(self):
+        nxt = np.arange(self.indices.size) + 1
+        nxt[self.offsets[1:] - 1] = self.offsets[:-1]
+        return self.indices, self.indices[nxt]
+
     def _pin_edges(self, edges, pins):
         """Polygon edges (vertex pairs): their end points and the refined vertices on them, at distance 0."""
         e = edge_list(edges, self.n_input_vertices)

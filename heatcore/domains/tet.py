@@ -183,6 +183,14 @@ class TetMesh(MeshDomain):
         faces = faces[(faces >= 0).all(axis=1)]  # faces of flat tets' own vertices are no surface
         self.operators = tet_operators(self._positions, self.vertex_map[oriented[kept]], boundary, faces)
 
+    def _element_sides(self):
+        kept = self.tets[self.tet_map >= 0]
+        a, b = np.triu_indices(4, 1)
+        return kept[:, a].ravel(), kept[:, b].ravel()
+
+    def _point_elements(self):
+        return self.tets
+
     def _pin_vertices(self, vertices, pins):
         """Source vertices, interior or on the boundary (distance 0); with ``pin_neighbors``, their tets' vertices too."""
         v = self._referenced(index_list(vertices, self.n_input_vertices, "vertex"))

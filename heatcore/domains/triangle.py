@@ -220,6 +220,13 @@ class TriangleMesh(MeshDomain):
         tri, sub = self.intrinsic, self.subdivision
         return [tri.faces, sub.faces], [tri.lengths, face_edge_lengths(sub.vertices, sub.faces)]
 
+    def _element_sides(self):
+        kept = self.faces[self.face_map >= 0]
+        return kept.ravel(), np.roll(kept, -1, axis=1).ravel()
+
+    def _point_elements(self):
+        return self.faces
+
     def _pin_edges(self, edges, pins):
         """Mesh edges (vertex pairs): their end points and the refined vertices on them, at distance 0."""
         e = edge_list(edges, self.n_input_vertices)

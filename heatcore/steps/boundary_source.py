@@ -43,7 +43,7 @@ Examples
 ...     d = solver.distance([pole])
 ...     return round(float(np.mean(np.abs(d - exact)[exact > 0] / exact[exact > 0])), 3)
 >>> error(hc.HeatSolver(mesh)), error(hc.HeatSolver(mesh, boundary="dirichlet"))  # Robin; Neumann heat (as before)
-(0.028, 0.046)
+(0.026, 0.044)
 """
 
 import numpy as np

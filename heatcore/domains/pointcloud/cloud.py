@@ -147,6 +147,11 @@ class PointCloud(Domain):
         """Operator vertex of each input point (``-1`` for points in no triangle)."""
         return self._operator_vertex[self.point_map]
 
+    @property
+    def input_positions(self):
+        """The points as given, ``(n, 3)``."""
+        return self.points
+
     def _pin_vertices(self, vertices, pins):
         """Source points (indices into the input points); a typed error for an isolated point."""
         v = index_list(vertices, self.n_input_vertices, "point")
