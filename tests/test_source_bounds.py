@@ -163,3 +163,12 @@ def test_point_cloud_gets_no_false_bound():
     assert cloud.straight_neighbours.nnz == 0  # points are joined by no segment on the surface
     d = hc.HeatSolver(cloud).distance([0])
     assert np.isfinite(d).all() and d[0] == 0.0
+
+
+def test_soup_copies_read_one_distance():
+    """An STL soup: every face has copies of its corners; welded, each copy reads its vertex's distance."""
+    V, F = hc.io.load_demo_mesh()
+    soup_V, soup_F = V[F.ravel()], np.arange(F.size).reshape(-1, 3)
+    d_soup = hc.HeatSolver(hc.TriangleMesh(soup_V, soup_F, refine=0)).distance([int(np.flatnonzero(F.ravel() == 0)[0])])
+    d = hc.HeatSolver(hc.TriangleMesh(V, F, refine=0)).distance([0])
+    np.testing.assert_allclose(d_soup, d[F.ravel()], rtol=1e-9, atol=1e-12)

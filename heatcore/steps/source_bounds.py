@@ -126,7 +126,7 @@ def source_bounds(domain, vertices, kinds):
     is_source[op[given]] = True
     sources = np.flatnonzero(is_source[op]) if given.size else given
     A = domain.straight_neighbours
-    near, lengths = _neighbours(A, sources)
+    near, lengths = _with_twins(op, *_neighbours(A, sources))
     if set(kinds) - {"points"}:  # an edge or a region: its points are not listed, no lower bound
         return SourceBounds(None, np.zeros(0, dtype=np.int64), near, lengths)
     points, seeds = [X[given]], [sources]
@@ -135,8 +135,19 @@ def source_bounds(domain, vertices, kinds):
         seeds.append(domain.point_corners(kinds["points"]).ravel())
     ring = np.unique(np.concatenate(seeds))
     for _ in range(RINGS):
-        ring = np.union1d(ring, _neighbours(A, ring)[0])
+        ring = _with_twins(op, np.union1d(ring, _neighbours(A, ring)[0]))[0]
     return SourceBounds(np.concatenate(points), ring, near, lengths)
+
+
+def _with_twins(op, vertices, values=None):
+    """``vertices`` and every input vertex welded to one of them (the same operator vertex), with the
+    smallest of their ``values``: welded copies (an OBJ seam, an STL soup) read one distance."""
+    values = np.zeros(vertices.size) if values is None else values
+    best = np.full(op.size + 1, np.inf)  # by operator vertex; index -1 (unreferenced) stays inf
+    np.minimum.at(best, op[vertices], values)
+    reached = best[op]
+    twins = np.flatnonzero(reached < np.inf)
+    return twins, reached[twins]
 
 
 def _neighbours(A, vertices):
