@@ -59,7 +59,7 @@ from .polygon_refine import (  # noqa: F401 (area_minimizer_weights: public here
     vertices_inside,
 )
 from .polygon_shape import fan_triangulate, simple_polygons  # noqa: F401 (fan_triangulate: public here too)
-from .polygon_triangulate import triangulate_concave, triangulate_polygons  # noqa: F401 (public here too)
+from .polygon_triangulate import straight_chords, triangulate_where_needed, triangulate_polygons  # noqa: F401
 from .refine import unique_edges
 from .sources import edge_list, index_list
 from .cotan import triangle_operators
@@ -205,9 +205,12 @@ class PolygonMesh(MeshDomain):
     polygons : list of index lists, (m, k) int array, or (offsets, indices) tuple
         Polygons of any size >= 3, mixed; see :func:`polygon_arrays`. Repeated
         consecutive corners are merged; polygons left with fewer than three
-        corners, and duplicates, are ignored with a warning. Non-planar,
-        non-convex polygons, non-manifold edges and several connected
-        components are fine; unreferenced vertices get ``inf``.
+        corners, and duplicates, are ignored with a warning. Non-planar
+        polygons, non-manifold edges and several connected components are
+        fine; unreferenced vertices get ``inf``. Concave polygons and those
+        with a nearly straight corner (what Blender's Dissolve Edges leaves)
+        are triangulated, so that the result is never worse than on heatcore's
+        own triangulation of the polygons (``n_triangulated``).
     refine : "auto" or int, default "auto"
         Levels of polygon-aware refinement before building the operators
         (:mod:`~heatcore.domains.polygon_refine`: each k-gon into k quads at
@@ -242,7 +245,11 @@ class PolygonMesh(MeshDomain):
     refined_faces : (f, 3) int array
         The (extrinsic) fan triangulation on refined vertices.
     n_virtual : int
-        Input polygons with more than three corners (each has a virtual vertex).
+        Input polygons with more than three corners that keep a virtual vertex.
+    n_triangulated : int
+        Input polygons triangulated instead (heatcore's triangulation,
+        :mod:`~heatcore.domains.polygon_triangulate`): concave ones, whose
+        virtual fan would fold, and those with a nearly straight corner.
     part_levels : (n_parts,) int array
         Refinement levels of each connected part; ``levels`` is the largest.
     refinement : PolygonRefinement
@@ -285,7 +292,8 @@ class PolygonMesh(MeshDomain):
         offsets, indices, origin = simple_polygons(
             self.vertices, self.offsets, self.indices, np.flatnonzero(kept), split_crossing
         )
-        offsets, indices, self._origin, self.n_concave = triangulate_concave(self.vertices, offsets, indices, origin)
+        offsets, indices, self._origin, self.n_triangulated = triangulate_where_needed(self.vertices, offsets, indices, origin)
+        self._spanned = (offsets, indices)
         used = np.unique(self.indices)
         self.vertex_map = np.full(n, -1, dtype=np.int64)
         self.vertex_map[used] = np.arange(used.size)
@@ -378,9 +386,8 @@ class PolygonMesh(MeshDomain):
         return Operators(L, mass, G, fan_ops.volumes, 2, boundary, elements, time_h[part])
 
     def _element_sides(self):
-        nxt = np.arange(self.indices.size) + 1
-        nxt[self.offsets[1:] - 1] = self.offsets[:-1]
-        return self.indices, self.indices[nxt]
+        """The polygons' sides, and the diagonals of the flat ones (convex, or triangulated), which lie in them."""
+        return straight_chords(self.vertices, *self._spanned)
 
     def _pin_edges(self, edges, pins):
         """Polygon edges (vertex pairs): their end points and the refined vertices on them, at distance 0."""
