@@ -236,7 +236,7 @@ class HeatSolver(VoronoiQueries, PathQueries):
         pins = self.domain.source_pins(vertices, **source_keywords(sources, stacklevel=3))
         phi = np.append(self.distance_from_pins(pins), np.inf)
         d = phi[self.domain.output_vertices]  # index -1 (unreferenced) reads the appended inf
-        return source_bounds(self.domain, vertices, sources).apply(d, self.domain.input_positions)
+        return source_bounds(self.domain, self.component, vertices, sources).apply(d)
 
     def distance_from_pins(self, pins):
         """Distance at every operator vertex, in the input's units, for prepared :class:`~heatcore.domains.sources.SourcePins`.
@@ -335,7 +335,7 @@ class HeatSolver(VoronoiQueries, PathQueries):
         for row, source in zip(rows, sources):
             bounds = self._block_source_bounds(source)
             if bounds is not None:
-                bounds.apply(row, self.domain.input_positions)
+                bounds.apply(row)
         return rows
 
     def block_columns(self, max_memory_mb=None):
@@ -364,8 +364,8 @@ class HeatSolver(VoronoiQueries, PathQueries):
             return None
         if isinstance(source, Mapping):
             kinds = dict(source)
-            return source_bounds(self.domain, kinds.pop("vertices", None), kinds)
-        return source_bounds(self.domain, source, {})
+            return source_bounds(self.domain, self.component, kinds.pop("vertices", None), kinds)
+        return source_bounds(self.domain, self.component, source, {})
 
     def _distances_from_pins(self, block):
         """:meth:`distance_from_pins` of several sources as columns ``(n, k)``."""

@@ -19,7 +19,7 @@ from conftest import load_shared_mesh
 
 def without_bounds(monkeypatch):
     """The heat method's distances as they were: the bounds switched off."""
-    monkeypatch.setattr(bounds_module.SourceBounds, "apply", lambda self, d, positions: d)
+    monkeypatch.setattr(bounds_module.SourceBounds, "apply", lambda self, d: d)
 
 
 def rings(F, sources, k):

@@ -34,6 +34,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import InvalidSourceError
+from .parts import row_norms
 from .sources import barycentric_array, build_source_pins, index_list
 
 
@@ -133,7 +134,7 @@ class Domain(ABC):
         a, b = keys // n, keys % n
         a, b = a[a != b], b[a != b]
         X = self.input_positions
-        lengths = np.linalg.norm(X[a] - X[b], axis=1)
+        lengths = row_norms(X[a] - X[b])
         return sp.csr_matrix((np.r_[lengths, lengths], (np.r_[a, b], np.r_[b, a])), shape=(n, n))
 
     def _element_sides(self):

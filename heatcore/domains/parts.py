@@ -235,3 +235,20 @@ def _hops_from(graph, roots):
     hops = np.full(graph.shape[0], np.inf)
     hops[order] = depth
     return hops
+
+
+def row_norms(D):
+    """Euclidean norms of the rows of ``D`` at any finite scale (no overflow at 1e300, no underflow at 1e-300).
+
+    Each row is divided by a power of two near its largest entry before squaring.
+
+    Examples
+    --------
+    >>> norms = row_norms(np.array([[3e-300, 4e-300, 0.0], [3e300, 4e300, 0.0], [0.0, 0.0, 0.0]]))
+    >>> bool(np.allclose(norms, [5e-300, 5e300, 0.0], rtol=1e-15, atol=0))
+    True
+    """
+    D = np.asarray(D, dtype=float)
+    largest = np.abs(D).max(axis=-1, keepdims=True)
+    exponent = np.frexp(np.where(largest > 0, largest, 1.0))[1]
+    return np.ldexp(np.linalg.norm(np.ldexp(D, -exponent), axis=-1), exponent[..., 0])

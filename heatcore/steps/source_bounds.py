@@ -30,7 +30,7 @@ Examples
 >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
 >>> mesh = hc.TriangleMesh(V, [[0, 1, 2], [1, 3, 2]])
 >>> d = np.array([0.0, 0.98, 0.98, 1.40])          # as the heat method gives them
->>> source_bounds(mesh, [0], {}).apply(d, mesh.input_positions).round(4).tolist()
+>>> source_bounds(mesh, np.zeros(4, int), [0], {}).apply(d).round(4).tolist()
 [0.0, 1.0, 1.0, 1.4142]
 """
 
@@ -39,6 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ..domains.parts import row_norms
 from ..domains.sources import index_list, source_keywords
 
 #: Above this many source points, the nearest one per vertex is found with a k-d tree.
@@ -55,10 +56,10 @@ class SourceBounds:
 
     Attributes
     ----------
-    points : (k, 3) float array or None
-        The source points, where every source is a point (the lower bound).
     ring : (r,) int array
-        Input vertices the lower bound is applied to: the sources' rings.
+        Input vertices with a lower bound: the rings of the point sources.
+    ring_lower : (r,) float array
+        Their straight-line distance to the nearest point source of their part.
     near : (j,) int array
         Input vertices joined to a source vertex by a straight segment.
     near_lengths : (j,) float array
@@ -66,20 +67,19 @@ class SourceBounds:
 
     Examples
     --------
-    >>> b = SourceBounds(np.zeros((1, 3)), np.array([1, 2]), np.array([1]), np.array([1.0]))
-    >>> b.apply(np.array([0.0, 0.9, 1.5, 2.5]), np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [3, 0, 0]], float)).tolist()
+    >>> b = SourceBounds(np.array([1, 2]), np.array([1.0, 2.0]), np.array([1]), np.array([1.0]))
+    >>> b.apply(np.array([0.0, 0.9, 1.5, 2.5])).tolist()
     [0.0, 1.0, 2.0, 2.5]
     """
 
-    points: np.ndarray
     ring: np.ndarray
+    ring_lower: np.ndarray
     near: np.ndarray
     near_lengths: np.ndarray
 
-    def apply(self, d, positions):
+    def apply(self, d):
         """Raise ``d`` (per input vertex, modified in place and returned) to the lower bound, cap it at the upper."""
-        if self.points is not None and self.ring.size:
-            d[self.ring] = np.maximum(d[self.ring], straight_distance(positions[self.ring], self.points))
+        d[self.ring] = np.maximum(d[self.ring], self.ring_lower)
         np.minimum.at(d, self.near, self.near_lengths)
         return d
 
@@ -93,31 +93,37 @@ def straight_distance(positions, points):
     [1.0, 2.0]
     """
     if points.shape[0] > TREE_FROM_POINTS:
-        return cKDTree(points).query(positions)[0]
+        exponent = np.frexp(max(np.abs(points).max(), np.abs(positions).max(), np.finfo(float).tiny))[1]
+        nearest = cKDTree(np.ldexp(points, -exponent)).query(np.ldexp(positions, -exponent))[1]
+        return row_norms(positions - points[nearest])
     nearest = np.full(positions.shape[0], np.inf)
     for p in points:
-        np.minimum(nearest, np.linalg.norm(positions - p, axis=1), out=nearest)
+        np.minimum(nearest, row_norms(positions - p), out=nearest)
     return nearest
 
 
-def source_bounds(domain, vertices, kinds):
+def source_bounds(domain, component, vertices, kinds):
     """The :class:`SourceBounds` of a source given as :meth:`~heatcore.HeatSolver.distance` takes it.
 
     Parameters
     ----------
     domain : heatcore.domains.base.Domain
+    component : (n_operator_vertices,) int array
+        Connected part of each operator vertex: a part's bounds come from its own sources only.
     vertices : int, sequence of int or None
         Source vertices (input indices), already checked by the domain's pins.
     kinds : dict
-        The other source keywords (``points``, ``edges``, ``region``).
+        The other source keywords (``points``, ``edges``, ``region``). A part
+        with an edge or region source gets no lower bound (their points are
+        not listed); the upper bound holds everywhere.
 
     Examples
     --------
     >>> import heatcore as hc
     >>> mesh = hc.TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0)
-    >>> b = source_bounds(mesh, None, {"points": ([0], [[1.0, 0.0, 0.0]])})
-    >>> b.points.tolist(), b.ring.tolist(), b.near.tolist()
-    ([[1.0, 0.0, 0.0]], [0, 1, 2], [])
+    >>> b = source_bounds(mesh, np.zeros(3, int), None, {"points": ([0], [[1.0, 0.0, 0.0]])})
+    >>> b.ring.tolist(), b.ring_lower.round(3).tolist(), b.near.tolist()
+    ([0, 1, 2], [0.0, 1.414, 1.414], [])
     """
     kinds = {k: v for k, v in source_keywords(kinds, stacklevel=5).items() if v is not None}
     X, op = domain.input_positions, np.asarray(domain.output_vertices)
@@ -127,16 +133,26 @@ def source_bounds(domain, vertices, kinds):
     sources = np.flatnonzero(is_source[op]) if given.size else given
     A = domain.straight_neighbours
     near, lengths = _with_twins(op, *_neighbours(A, sources))
-    if set(kinds) - {"points"}:  # an edge or a region: its points are not listed, no lower bound
-        return SourceBounds(None, np.zeros(0, dtype=np.int64), near, lengths)
-    points, seeds = [X[given]], [sources]
+    points, part, seeds = [X[given]], [component[op[given]]], [sources]
     if "points" in kinds:
+        corners = domain.point_corners(kinds["points"])
         points.append(domain.point_positions(kinds["points"]))
-        seeds.append(domain.point_corners(kinds["points"]).ravel())
-    ring = np.unique(np.concatenate(seeds))
+        part.append(component[op[corners[:, 0]]])
+        seeds.append(corners.ravel())
+    points, part = np.concatenate(points), np.concatenate(part)
+    ring = _with_twins(op, np.unique(np.concatenate(seeds)))[0]
     for _ in range(RINGS):
         ring = _with_twins(op, np.union1d(ring, _neighbours(A, ring)[0]))[0]
-    return SourceBounds(np.concatenate(points), ring, near, lengths)
+    other = {k: v for k, v in kinds.items() if k != "points"}
+    if other:  # an edge or a region: its points are not listed, so its part gets no lower bound
+        blocked = component[domain.source_pins(None, **other).vertices]
+        ring = ring[~np.isin(component[op[ring]], blocked)]
+    ring_part = component[op[ring]]
+    lower = np.empty(ring.size)
+    for p in np.unique(ring_part):
+        here = ring_part == p
+        lower[here] = straight_distance(X[ring[here]], points[part == p])
+    return SourceBounds(ring, lower, near, lengths)
 
 
 def _with_twins(op, vertices, values=None):
