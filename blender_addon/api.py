@@ -150,7 +150,13 @@ def compute_geodesic_distance(
         solving, writing. It may raise to abort: nothing is written then.
     **solver_options
         ``robust``, ``refine`` and ``weld`` go to :class:`heatcore.TriangleMesh`
-        (``refine`` only to a ``PolygonMesh``);
+        (``refine`` only to a ``PolygonMesh``). ``weld``: None by default, unlike
+        heatcore's own default: the mesh is measured as it is connected in
+        Blender (islands that touch at a vertex, as Suzanne's eyes, stay
+        apart); ``weld=0.0`` merges vertices at exactly the same position (the
+        panel's *Merge Coincident Vertices*, for meshes imported as triangle
+        soup; a mesh with quads that has vertices to merge is then measured
+        as its triangles), a tolerance those closer than it;
         all others (``m``, ``boundary``, ``accuracy``, ``backend``, ...) to
         :class:`heatcore.HeatSolver`. Options declared in ``heatcore.options``
         are checked there first. ``time_factor`` is a deprecated name of
@@ -179,9 +185,13 @@ def compute_geodesic_distance(
     )
     for note in run.notes:
         warnings.warn(note, stacklevel=2)
+    known = len(run.notes)
     if run.solver is None:
-        known = len(run.notes)
         build_solver(run, progress)
         for note in run.notes[known:]:  # from the build: polygons measured as triangles
             warnings.warn(note, stacklevel=2)
-    return finish_run(run, progress, obj)
+        known = len(run.notes)
+    result = finish_run(run, progress, obj)
+    for note in run.notes[known:]:  # from the query: a soup that merging would join
+        warnings.warn(note, stacklevel=2)
+    return result

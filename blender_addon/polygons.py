@@ -12,8 +12,11 @@ the loop triangles otherwise, or where only triangles serve:
 - ``accuracy="high"``: the eikonal pass runs on triangle meshes;
 - points on faces (the probe) and geodesic paths: they live on loop triangles;
 - ``robust=False`` (plain cotan operators) and ``weld``, ``TriangleMesh``
-  options: a weld tolerance, or with the default (0) vertices at exactly
-  the same position (found when the solver is built: :func:`polygon_domain`);
+  options: a weld tolerance, or with *Merge Coincident Vertices* on
+  (``weld=0``) vertices at exactly the same position (found when the solver
+  is built: :func:`polygon_domain`). By default nothing is merged
+  (``weld=None``: the mesh as connected in Blender), so coincident vertices
+  keep the polygons;
 - ``polygons="TRIANGULATE"``: the loop triangles, as before.
 
 A polygon whose sides cross (a bowtie) is measured as its fan triangles,
@@ -103,7 +106,7 @@ def key_options(mesh_options, solver_options, as_polygons):
 
 
 def polygon_domain(V, polygons, mesh_options, notes=None):
-    """``heatcore.PolygonMesh`` of the faces, or None where ``weld=0`` has vertices to merge (exact duplicates).
+    """``heatcore.PolygonMesh`` of the faces, or None where merging (``weld=0``) has vertices to merge (exact duplicates).
 
     Polygons whose sides cross (a bowtie) are measured as their fan
     triangles. Either case appends a note for the user to ``notes``: the
@@ -130,7 +133,7 @@ def polygon_domain(V, polygons, mesh_options, notes=None):
         merged = len(V) - len(np.unique(V, axis=0))
         if merged:
             notes.append(f"measured as triangles, not polygons: {merged:,} vertices share their position with "
-                         "another and are welded (polygons are not; weld=None keeps them apart)")
+                         "another and are welded (Merge Coincident Vertices; polygons are not merged)")
             return None
     try:
         return heatcore.PolygonMesh(V, polygons, refine=mesh_options["refine"])

@@ -2,15 +2,18 @@
 
 :class:`GeodesicOptions` declares every option once; the operator and the
 scene settings shown in the panel both inherit it. heatcore's options
-(``m``, ``boundary``, ``accuracy``, ``robust``, ``backend``, ``colormap``,
-``isolines``, ``weight_radius``, ``weight_falloff``, ``weight_invert``)
-are generated from ``heatcore.options`` by :func:`option_property`: the
-property name is the option's name, and its description, default, range and
-choices are the declared ones (the label may be friendlier). An option that
-may be None (``weight_radius``) declares the Blender value standing for None
-as its Blender default (0: the largest distance); :func:`option_value` turns it
-back into None. The add-on's own options (sources, output names) are declared
-here.
+(``m``, ``boundary``, ``accuracy``, ``robust``, ``backend``, ``weld``,
+``colormap``, ``isolines``, ``weight_radius``, ``weight_falloff``,
+``weight_invert``) are generated from ``heatcore.options`` by
+:func:`option_property`: the property name is the option's name, and its
+description, default, range and choices are the declared ones (the label may
+be friendlier). An option that may be None (``weight_radius``) declares the
+Blender value standing for None as its Blender default (0: the largest
+distance); :func:`option_value` turns it back into None. One declared as a
+switch (``weld``, *Merge Coincident Vertices*) is a Boolean: off is None (the
+Blender default: the mesh as connected in Blender), on its core default
+(``weld=0.0``: exactly coincident vertices merged). The add-on's own options
+(sources, output names) are declared here.
 """
 
 import bpy
@@ -33,10 +36,10 @@ from .api import (
 from .uvmap import DEFAULT_UV_MAP
 
 #: heatcore options that are properties here, in panel order.
-HEATCORE_OPTIONS = ("m", "boundary", "accuracy", "robust", "backend", "colormap", "isolines",
+HEATCORE_OPTIONS = ("m", "boundary", "accuracy", "robust", "backend", "weld", "colormap", "isolines",
                     "weight_radius", "weight_falloff", "weight_invert")
 #: Of those, the ones passed to heatcore's domain and solver.
-SOLVER_OPTIONS = ("m", "boundary", "accuracy", "robust", "backend")
+SOLVER_OPTIONS = ("m", "boundary", "accuracy", "robust", "backend", "weld")
 
 #: Enum labels that are not the choice capitalized (library names).
 CHOICE_LABELS = {"qdldl": "QDLDL", "cholmod": "CHOLMOD", "superlu": "SuperLU", "gpu": "GPU"}
@@ -73,6 +76,8 @@ def option_property(name, front_end="blender"):
     """
     opt = options.OPTIONS[name]
     kw = {"name": opt.ui_label or opt.label.title(), "description": opt.help, "default": opt.default_for(front_end)}
+    if opt.switch_help:  # on: the core's default; off: None
+        return BoolProperty(**{**kw, "description": opt.switch_help, "default": kw["default"] is not None})
     if opt.choices:
         items = [(c, CHOICE_LABELS.get(c, c.capitalize()), text) for c, text in zip(opt.choices, opt.choice_help)]
         return EnumProperty(items=items, **kw)
@@ -92,14 +97,19 @@ def _none_stand_in(opt):
 
 
 def option_value(name, value):
-    """The heatcore value of property ``name``: None where Blender holds the stand-in for None.
+    """The heatcore value of property ``name``: None where Blender holds the stand-in for None (a switch: off).
 
     Examples
     --------
     >>> option_value("weight_radius", 0.0), option_value("weight_radius", 2.5)  # doctest: +SKIP
     (None, 2.5)
+    >>> option_value("weld", False), option_value("weld", True)  # doctest: +SKIP
+    (None, 0.0)
     """
-    stand_in = _none_stand_in(options.OPTIONS[name])
+    opt = options.OPTIONS[name]
+    if opt.switch_help:
+        return opt.default if value else None
+    stand_in = _none_stand_in(opt)
     return None if stand_in is not None and value == stand_in else value
 
 
@@ -113,6 +123,7 @@ class GeodesicOptions:
     accuracy: option_property("accuracy")
     robust: option_property("robust")
     backend: option_property("backend")
+    weld: option_property("weld")
     polygons: EnumProperty(name="Polygons", items=POLYGON_ITEMS, default="AUTO")
     attribute: StringProperty(
         name="Attribute", description="FLOAT point attribute that receives the distance", default=DEFAULT_ATTRIBUTE
@@ -198,7 +209,7 @@ class GeodesicOptions:
 
     def solver_options(self):
         """Options passed through to heatcore (``TriangleMesh`` / ``HeatSolver``)."""
-        return {name: getattr(self, name) for name in SOLVER_OPTIONS}
+        return {name: option_value(name, getattr(self, name)) for name in SOLVER_OPTIONS}
 
 
 UV_UP_ITEMS = [

@@ -40,9 +40,12 @@ from .shape import COPY_MARKER, evaluated_copy, measured_positions, nearest_vert
 options = importlib.import_module(heatcore.__name__ + ".options")
 Progress = importlib.import_module(heatcore.__name__ + ".progress").Progress
 
-#: Options that shape the domain (``heatcore.TriangleMesh``), with their defaults;
-#: every other keyword goes to ``heatcore.HeatSolver``.
-MESH_OPTIONS = options.defaults("mesh")
+#: Options that shape the domain (``heatcore.TriangleMesh``), with their Blender defaults (``weld=None``: a
+#: Blender mesh is measured as it is connected, nothing merged); every other keyword goes to ``heatcore.HeatSolver``.
+MESH_OPTIONS = {name: options.OPTIONS[name].default_for("blender") for name in options.names("mesh")}
+#: A run that reaches fewer than this share of the vertices, where at least this share of them share their
+#: position with another (a mesh imported as triangle soup), says that merging them would join the pieces.
+MERGE_HINT = (0.1, 0.25)
 
 #: The part of a run's progress (0..1) that the solver build covers (the domain's share of it is heatcore's).
 BUILD_RANGE = (0.1, 0.8)
@@ -301,7 +304,7 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
     run.cached = run.solver is not None
     if not run.cached:
         SOLVERS.discard(run.cache_id)  # free the stale solver before building
-        run.F = read_triangles(obj, topology, new_object)  # also for polygons: exact duplicates are welded as triangles
+        run.F = read_triangles(obj, topology, new_object)  # also for polygons: merged duplicates are measured as triangles
         run.polygons = (topology[1:] if new_object else polygon_arrays(mesh)) if as_polygons else None
         run.key = geometry_key(V, topology, domain_options)  # kept with the solver: copied
     return run
@@ -386,6 +389,9 @@ def finish_run(run, progress=None, obj=None):
         sources = np.unique(nearest_vertices(obj, run.sources))
     progress(0.8, "solving for the distance")
     d = run.solver.distance(sources)
+    hint = merge_hint(run.V, d, run.mesh_options)
+    if hint:
+        run.notes.append(hint)
     progress(0.9, "writing attributes")
     dmax = write_outputs(obj, d, run.space, **run.outputs)
     progress(1.0, "done")
@@ -401,3 +407,34 @@ def finish_run(run, progress=None, obj=None):
         warnings=run.notes,
         object=obj,
     )
+
+
+def merge_hint(V, d, mesh_options):
+    """A note naming *Merge Coincident Vertices* where the distance reached almost nothing of a soup; else None.
+
+    Merging off (``weld=None``), the pieces of a mesh imported as triangle
+    soup (an STL file: every triangle its own three vertices) are islands of
+    their own, and a source reaches only its own. The note is given where the
+    distance reaches fewer than ``MERGE_HINT[0]`` of the vertices and at least
+    ``MERGE_HINT[1]`` of them share their position with another; a mesh merely
+    in pieces that touch (Suzanne's eyes) gets none.
+
+    Examples
+    --------
+    >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]] * 20, float)
+    >>> merge_hint(V, np.r_[0.0, 1.0, 1.0, np.full(57, np.inf)], {"weld": None})[:34]
+    'the distance reaches 3 of 60 verti'
+    >>> merge_hint(V, np.r_[0.0, 1.0, 1.0, np.full(57, np.inf)], {"weld": 0.0}) is None
+    True
+    """
+    if mesh_options.get("weld", 0.0) is not None:  # merging on (or a point cloud, which takes no weld)
+        return None
+    reached = int(np.isfinite(d).sum())
+    if reached >= MERGE_HINT[0] * len(V):
+        return None
+    shared = len(V) - len(np.unique(V, axis=0))
+    if shared < MERGE_HINT[1] * len(V):
+        return None
+    return (f"the distance reaches {reached:,} of {len(V):,} vertices: the mesh is in pieces that touch "
+            f"({shared:,} vertices share their position with another, as in a mesh imported as triangle soup, "
+            "such as STL); turn on Advanced > Merge Coincident Vertices (weld=0.0 in scripts) to join them")

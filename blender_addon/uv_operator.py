@@ -23,11 +23,11 @@ from mathutils import Vector
 from ._heatcore import heatcore
 from .adapters import AddonError
 from .operator import poll_editable_mesh
-from .properties import SHAPE_ITEMS, SPACE_ITEMS, UVMapOptions, option_property
+from .properties import SHAPE_ITEMS, SPACE_ITEMS, UVMapOptions, option_property, option_value
 from .uvmap import geodesic_uv_map
 
 #: Settings of the distance that the UV map shares (copied from the panel when not set).
-SHARED = ("space", "shape", "m", "boundary", "robust", "backend")
+SHARED = ("space", "shape", "m", "boundary", "robust", "backend", "weld")
 
 
 def view_up(context):
@@ -62,6 +62,7 @@ class MESH_OT_heat_geodesic_uv_map(UVMapOptions, bpy.types.Operator):
     boundary: option_property("boundary")
     robust: option_property("robust")
     backend: option_property("backend")
+    weld: option_property("weld")
     view_up: FloatVectorProperty(name="View Up", size=3, default=(0.0, 0.0, 0.0), options={"HIDDEN", "SKIP_SAVE"},
                                  description="The 3D View's up direction when invoked (zero: none)")
 
@@ -95,6 +96,7 @@ class MESH_OT_heat_geodesic_uv_map(UVMapOptions, bpy.types.Operator):
                 obj, None if self.vertex < 0 else self.vertex, name=self.uv_map, unit=self.uv_unit or None,
                 up=self.up_direction(context), space=self.space, shape=self.shape, m=self.m,
                 accuracy=self.uv_accuracy, boundary=self.boundary, robust=self.robust, backend=self.backend,
+                weld=option_value("weld", self.weld),
             )
         except (AddonError, heatcore.HeatcoreError) as exc:
             self.report({"ERROR"}, str(exc))

@@ -87,7 +87,12 @@ class Option:
         end of the slider range.
     front_end_defaults : tuple of (front_end, value, text)
         Front ends whose default differs from ``default``, with the text their
-        help shows; one with no None (Blender) declares the value standing for it.
+        help shows; one with no None (Blender) declares the value standing for it,
+        except for a switch (``switch_help``), whose off stands for None.
+    switch_help : str, optional
+        For an option that may be None: graphical front ends (Blender) offer it
+        as an on/off switch named ``ui_label`` with this help, off for None and
+        on for ``default`` (``weld``: *Merge Coincident Vertices*, weld=0.0).
 
     Examples
     --------
@@ -118,6 +123,7 @@ class Option:
     ui_min: float = None
     soft_max: float = None
     front_end_defaults: tuple = ()
+    switch_help: str = None
 
     def requirement(self, with_none=True):
         """What a value must be, in words.
@@ -280,7 +286,11 @@ _OPTIONS = (
         "given for every input vertex",
         "mesh", low=0, none_means="no welding", flag="--weld-tolerance", metavar="TOL",
         off_flag="--no-weld", off_help="no welding: solve on the vertices as they are (coincident vertices stay apart)",
-        ui_label="Weld",
+        ui_label="Merge Coincident Vertices",
+        front_end_defaults=(("blender", None, "off: the mesh as connected in Blender"),),
+        switch_help="merge vertices at exactly the same position into one before solving, for meshes imported as "
+                    "triangle soup (STL); off: the mesh is measured as it is connected in Blender, so islands that "
+                    "touch at a vertex (Suzanne's eyes) stay apart: a source on one reaches no other",
     ),
     Option(
         "domain", "domain kind", str, "auto", "none (a choice)",

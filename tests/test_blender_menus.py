@@ -254,7 +254,8 @@ def test_advanced_subpanel_is_closed_and_holds_the_solver_jargon(addon):
     assert advanced.bl_options == {"DEFAULT_CLOSED"}
     assert advanced.bl_category == "Geodesic" and advanced.bl_region_type == "UI"
     labels = drawn_properties(addon)
-    assert {n for n, label in labels.items() if label.startswith("Advanced")} == {"boundary", "robust", "backend", "polygons"}
+    assert {n for n, label in labels.items() if label.startswith("Advanced")} == {"boundary", "robust", "backend", "polygons",
+                                                                                "weld"}
     assert not labels["m"].startswith("Advanced") and not labels["accuracy"].startswith("Advanced")
     # Every option of the operator is in one of the two panels.
     assert set(labels) == set(addon.properties.GeodesicOptions.__annotations__)
@@ -323,7 +324,7 @@ def test_docs_state_every_option_with_its_label_and_defaults(addon):
     annotations = addon.properties.GeodesicOptions.__annotations__
     signature = inspect.signature(addon.compute_geodesic_distance)
     keywords = {n: p.default for n, p in signature.parameters.items() if n != "obj" and p.kind != p.VAR_KEYWORD}
-    keywords.update({n: o.default for n, o in OPTIONS.items() if o.target in ("mesh", "solver")})  # **solver_options
+    keywords.update({n: o.default_for("blender") for n, o in OPTIONS.items() if o.target in ("mesh", "solver")})  # **solver_options
     labels = drawn_properties(addon)
 
     documented_props = [code(r["Property"]) for r in rows if r["Property"] != "—"]

@@ -5,7 +5,7 @@ checks, before writing, that the object still has the geometry and options
 the solver was built for (``stages.check_unchanged``). A mesh measured as
 polygons must pass that check (its cache key holds the domain kind) and get
 the same distance as the script API. What the build has to tell the user (a
-bowtie measured as its fan triangles; coincident vertices welded, so the mesh
+bowtie measured as its fan triangles; coincident vertices merged, so the mesh
 measured as triangles) is a note of the run: raised in the worker thread as a
 warning, it would reach no one; as a note it is in the operator's report and
 the script API's warnings.
@@ -80,7 +80,8 @@ def test_a_bowtie_warning_from_the_worker_reaches_the_report(addon):  # noqa: F8
 
 
 def test_coincident_vertices_are_welded_as_triangles_with_a_note(addon):  # noqa: F811
-    # two quads side by side, their shared edge duplicated: TriangleMesh welds it (weld=0), PolygonMesh would not
+    # two quads side by side, their shared edge duplicated: merged (weld=0, Merge Coincident Vertices; off by
+    # default in Blender), TriangleMesh welds it, PolygonMesh would not
     mesh = bpy.data.meshes.new("seam")
     V = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [1, 0, 0], [2, 0, 0], [2, 1, 0], [1, 1, 0]]
     mesh.from_pydata(V, [], [[0, 1, 2, 3], [4, 5, 6, 7]])
@@ -88,14 +89,14 @@ def test_coincident_vertices_are_welded_as_triangles_with_a_note(addon):  # noqa
     bpy.context.scene.collection.objects.link(obj)
     api = modules()["api"]
     with pytest.warns(UserWarning, match="measured as triangles, not polygons: 2 vertices share their position"):
-        result = api.compute_geodesic_distance(obj, sources=[0], color_attribute=None)
+        result = api.compute_geodesic_distance(obj, sources=[0], color_attribute=None, weld=0.0)
     assert any("welded" in note for note in result.warnings)
     mesh.calc_loop_triangles()
     F = np.array([t.vertices[:] for t in mesh.loop_triangles])
     np.testing.assert_allclose(result.distance, hc.HeatSolver(hc.TriangleMesh(np.array(V, float), F)).distance([0]),
                                rtol=1e-9, atol=1e-12)
     assert result.distance[5] == pytest.approx(2.0, rel=0.05)  # across the welded seam (measured 1.94)
-    apart = api.compute_geodesic_distance(obj, sources=[0], color_attribute=None, weld=None)  # polygons, two parts
+    apart = api.compute_geodesic_distance(obj, sources=[0], color_attribute=None)  # the default: polygons, two parts
     assert np.isinf(apart.distance[4:]).all() and apart.distance[2] == pytest.approx(np.sqrt(2), rel=0.05)
 
 

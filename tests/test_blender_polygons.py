@@ -118,11 +118,11 @@ def test_triangles_where_only_they_serve(addon):  # noqa: F811
     assert isinstance(cached_domain(addon, obj, False), hc.TriangleMesh)  # the eikonal pass runs on triangles
     welded = addon.compute_geodesic_distance(obj, sources=[0], color_attribute=None, weld=1e-6)
     assert np.isfinite(high.distance).all() and np.isfinite(welded.distance).all()
-    # Two quads whose shared side is two pairs of vertices at the same positions: welded (weld=0, the
-    # default) as triangles, so that the distance crosses the seam.
+    # Two quads whose shared side is two pairs of vertices at the same positions: merged (weld=0, Merge
+    # Coincident Vertices; off by default in Blender) as triangles, so that the distance crosses the seam.
     split = mesh_object([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [1, 0, 0], [2, 0, 0], [2, 1, 0], [1, 1, 0]],
                         [[0, 1, 2, 3], [4, 5, 6, 7]], name="Split")
-    seam = addon.compute_geodesic_distance(split, sources=[0], color_attribute=None)
+    seam = addon.compute_geodesic_distance(split, sources=[0], color_attribute=None, weld=0.0)
     assert isinstance(cached_domain(addon, split, True), hc.TriangleMesh)
     np.testing.assert_allclose(seam.distance[[5, 6]], [2.0, np.sqrt(5.0)], rtol=0.05)
     with pytest.raises(addon.AddonError, match="polygons must be one of AUTO, TRIANGULATE"):

@@ -274,6 +274,12 @@ def test_blender_properties_are_the_declared_ones(blender_properties):
     for name in declared:
         opt, prop = OPTIONS[name], annotations[name]
         kw = prop.keywords
+        if opt.switch_help:  # an on/off switch (weld): off is None, on the core's default
+            assert prop.function is bpy.props.BoolProperty and kw["description"] == opt.switch_help, name
+            assert kw["default"] is (opt.default_for("blender") is not None) and opt.none_means, name
+            assert blender_properties.option_value(name, False) is None, name
+            assert blender_properties.option_value(name, True) == opt.check(opt.default) == opt.default, name
+            continue
         assert kw["description"] == opt.help, name
         assert kw["default"] == opt.default_for("blender"), name
         if opt.choices:
