@@ -16,7 +16,8 @@ The front ends are generated from this table or checked by it: the
 parameters and :func:`heatcore.geodesic_distance` (:func:`check`).
 ``tests/test_options.py`` holds every front end to it. Every bad value gets
 one message format, ``<unknown|invalid> <label> <value>: <name> must be
-<requirement>``, in an :class:`~heatcore.errors.InvalidOptionError`.
+<requirement>`` (followed by ``: <high_why>`` for a number above a ``high``
+that declares why), in an :class:`~heatcore.errors.InvalidOptionError`.
 
 Examples
 --------
@@ -27,7 +28,11 @@ Examples
 >>> check("m", -1.0)
 Traceback (most recent call last):
 ...
-heatcore.errors.InvalidOptionError: invalid time factor -1.0: m must be a positive number
+heatcore.errors.InvalidOptionError: invalid time factor -1.0: m must be a positive number <= 1e+06
+>>> check("m", 1e15)  # doctest: +ELLIPSIS
+Traceback (most recent call last):
+...
+heatcore.errors.InvalidOptionError: invalid time factor 1000000000000000.0: m must be ... <= 1e+06: above 1e+06 the heat step ...
 >>> OPTIONS["weld"].unit
 'mesh units (a length)'
 """
@@ -93,6 +98,9 @@ class Option:
         For an option that may be None: graphical front ends (Blender) offer it
         as an on/off switch named ``ui_label`` with this help, off for None and
         on for ``default`` (``weld``: *Merge Coincident Vertices*, weld=0.0).
+    high_why : str, optional
+        Why values above ``high`` are refused: the error for one says it
+        (``m``: past :data:`M_MAX` the heat flow has no digits left).
 
     Examples
     --------
@@ -124,6 +132,7 @@ class Option:
     soft_max: float = None
     front_end_defaults: tuple = ()
     switch_help: str = None
+    high_why: str = None
 
     def requirement(self, with_none=True):
         """What a value must be, in words.
@@ -139,8 +148,8 @@ class Option:
             text = "True or False"
         else:
             what = "an integer" if self.type is int else "a number"
-            if self.type is float and self.low == 0 and self.low_open and self.high is None:
-                text = "a positive number"
+            if self.type is float and self.low == 0 and self.low_open:
+                text = "a positive number" + ("" if self.high is None else f" <= {self.high:g}")
             elif self.type is int and self.low is not None and self.high is not None:
                 text = f"{what} {self.low}..{self.high}"
             elif self.high is None:
@@ -154,7 +163,8 @@ class Option:
         """The :class:`~heatcore.errors.InvalidOptionError` for a bad ``value`` (one format for all)."""
         adjective = "unknown" if self.choices else "invalid"
         requirement = "one of " + ", ".join(self.choices + tuple(extra)) if extra else self.requirement()
-        return InvalidOptionError(f"{adjective} {self.label} {value!r}: {self.name} must be {requirement}")
+        why = self._why(value)
+        return InvalidOptionError(f"{adjective} {self.label} {value!r}: {self.name} must be {requirement}{why}")
 
     def check(self, value, extra=()):
         """The value, normalized (float, int, bool, str or None); :meth:`error` when it is not allowed.
@@ -182,6 +192,11 @@ class Option:
         elif isinstance(value, _NUMBER) and not isinstance(value, _BOOL) and np.isfinite(value) and self._in_range(value):
             return float(value)
         raise self.error(value, extra)
+
+    def _why(self, value):
+        """``": <high_why>"`` for a number above ``high`` (where declared), else ``""``."""
+        number = isinstance(value, _NUMBER) and not isinstance(value, _BOOL)
+        return f": {self.high_why}" if self.high_why and number and value > self.high else ""
 
     def _in_range(self, value):
         low_ok = self.low is None or (value > self.low if self.low_open else value >= self.low)
@@ -221,22 +236,35 @@ class Option:
         try:
             return self.check(value)
         except InvalidOptionError:
-            raise argparse.ArgumentTypeError(f"must be {self.requirement(False)}, got {text!r}") from None
+            why = self._why(value)
+            raise argparse.ArgumentTypeError(f"must be {self.requirement(False)}, got {text!r}{why}") from None
 
     def help_text(self, front_end="cli"):
         """Help with the front end's default appended (argparse: ``%`` escaped by the caller)."""
         shown = next((text for end, _, text in self.front_end_defaults if end == front_end), None)
         if shown is None:
             shown = {True: "on", False: "off"}.get(self.default, self.default) if self.type is bool else self.default
-        return f"{self.help} (default: {shown})"
+        limit = f"; at most {self.high:g}" if self.high_why else ""  # a range that is not the type's own
+        return f"{self.help}{limit} (default: {shown})"
 
+
+#: Largest time factor ``m`` a user may give (``t = m h^2``). Measured (tests/test_time_factor_range.py
+#: states the figures): the smoothed distance stops changing by m = 1e5-1e6 (t far beyond the mesh's
+#: diameter squared: the heat is uniform but for a tail of ~1/t, whose gradient is the direction field),
+#: and from m = 1e9 that tail sinks into rounding: an icosahedron's largest distance falls to 0.61 of the
+#: truth at 1e9, spot's to 0.12 at 1e12 and to zeros or a failed factorization above. m is unitless, so the
+#: limit is the same at any coordinate scale. The underflow guard's own raise of m
+#: (:func:`heatcore.steps.time_step.underflow_safe_m`, about (hops / 443)^2) is not held to it.
+M_MAX = 1e6
 
 _OPTIONS = (
     Option(
         "m", "time factor", float, 1.0, "unitless (t = m h^2, h in mesh units)",
         "heat time factor: t = m * h^2, h the mean edge length; larger m gives a smoother distance",
-        "solver", low=0, low_open=True, flag="--m", metavar="M", ui_label="Time Factor", ui_min=1e-3,
-        soft_max=1000.0,
+        "solver", low=0, low_open=True, high=M_MAX, flag="--m", metavar="M", ui_label="Time Factor", ui_min=1e-3,
+        soft_max=1000.0, high_why=f"above {M_MAX:g} the heat step t = m h^2 is so long that the heat is uniform to "
+        "within rounding and the distance loses its digits (it collapses from about 1e9 on; the smoothed distance "
+        "stops changing by 1e5, so larger m gains nothing)",
     ),
     Option(
         "boundary", "boundary condition", str, "robin", "none (a choice)",

@@ -78,8 +78,9 @@ def test_declaration_is_complete_and_its_default_is_valid(name):
     for value in bad_values(opt):
         with pytest.raises(InvalidOptionError) as caught:
             opt.check(value)
+        why = f": {opt.high_why}" if opt.high_why and isinstance(value, float) and value > opt.high else ""
         assert str(caught.value) == f"{'unknown' if opt.choices else 'invalid'} {opt.label} {value!r}: " \
-                                    f"{name} must be {opt.requirement()}"
+                                    f"{name} must be {opt.requirement()}{why}"
 
 
 def test_declared_choices_match_the_code_that_implements_them():
