@@ -60,6 +60,8 @@ The package, one concept per module; this module re-exports the public API:
     whether a process still runs (POSIX, Windows), for temporary files and pool workers;
 :mod:`~heatcore.apps.batch.task`
     one mesh: read, factor once, solve its sources in blocks, write;
+:mod:`~heatcore.apps.batch.pool`
+    the local process pool: a worker that dies fails only the mesh it held;
 :mod:`~heatcore.apps.batch.runners`
     where tasks run: this process, a process pool, a Dask cluster;
 :mod:`~heatcore.apps.batch.run`

@@ -1,4 +1,4 @@
-"""Runners of a batch: a local process pool or a Dask cluster; stopping them; workers that die with their parent.
+"""Runners of a batch: a local process pool or a Dask cluster; workers that die with their parent.
 
 :func:`run_pool` and :func:`run_dask` are generators of ``(task, summary_row)``
 in completion order. Closing one (``generator.close()``, or an exception such
@@ -6,6 +6,12 @@ as ``KeyboardInterrupt`` raised while it waits) stops the work: queued tasks
 are cancelled and, on the local pool, the running worker processes are
 terminated at once (their files are written atomically, so a killed task
 leaves at most a temporary file, see :func:`heatcore.apps.batch.storage.clean_temporaries`).
+
+A worker process that dies (killed by the out-of-memory killer, SIGKILL, a
+crash) fails the mesh it was computing and no other: the local pool
+(:mod:`heatcore.apps.batch.pool`) knows which task each worker holds and
+replaces the dead one; on Dask a mesh whose workers died is tried again alone
+before it is reported (:func:`run_dask`).
 
 Pool workers ignore SIGINT (the parent decides what Ctrl-C does) and exit
 when their parent process is gone, also when it was killed with SIGKILL: a
@@ -27,10 +33,10 @@ import threading
 import time
 import traceback
 import uuid
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 from ...errors import HeatcoreError, InvalidOptionError
+from .pool import WorkerDied, imap_unordered
 from .processes import pid_alive
 
 #: Seconds between two checks of the parent process in a pool worker.
@@ -60,15 +66,18 @@ def error_message(exc):
 
 
 def crash_row(task, exc):
-    """The summary row of a task whose worker failed (killed, lost).
+    """The summary row of a task whose worker failed (its process died, or the task raised there).
 
     Examples
     --------
-    >>> crash_row("meshes/a.obj", OSError("killed"))
-    {'file': 'meshes/a.obj', 'vertices': '', 'sources': '', 'seconds': '', 'status': 'error', 'error': 'worker failed: OSError: killed'}
+    >>> crash_row("meshes/a.obj", OSError("disk gone"))["error"]
+    'worker failed: OSError: disk gone'
+    >>> crash_row("meshes/a.obj", WorkerDied(-9))["error"]  # doctest: +ELLIPSIS
+    'worker process died (killed by signal 9, SIGKILL: ...) while computing meshes/a.obj'
     """
-    return {"file": str(getattr(task, "path", task)), "vertices": "", "sources": "", "seconds": "",
-            "status": "error", "error": f"worker failed: {error_message(exc)}"}
+    path = str(getattr(task, "path", task))
+    error = f"{exc} while computing {path}" if isinstance(exc, WorkerDied) else f"worker failed: {error_message(exc)}"
+    return {"file": path, "vertices": "", "sources": "", "seconds": "", "status": "error", "error": error}
 
 
 # --------------------------------------------------------------------------- workers die with their parent
@@ -147,50 +156,13 @@ def worker_init(parent_pid):
 # --------------------------------------------------------------------------- local pool
 
 
-def stop_pool(pool, grace=1.0):
-    """Cancel queued tasks and end the worker processes of ``pool`` now (terminate, then kill).
-
-    Returns once every worker has exited, so nothing of the pool writes afterwards.
-
-    Parameters
-    ----------
-    pool : concurrent.futures.ProcessPoolExecutor
-    grace : float, default 1.0
-        Seconds the workers get to exit after SIGTERM before they are killed.
-
-    Examples
-    --------
-    >>> pool = ProcessPoolExecutor(1)
-    >>> future = pool.submit(time.sleep, 60)
-    >>> workers = list(pool._processes.values())
-    >>> start = time.monotonic()
-    >>> stop_pool(pool)
-    >>> time.monotonic() - start < 5
-    True
-    >>> while any(p.is_alive() for p in workers) and time.monotonic() - start < 5:  # the executor's
-    ...     time.sleep(0.05)  # own thread may reap a worker first; is_alive() then catches up
-    >>> any(p.is_alive() for p in workers)
-    False
-    """
-    processes = list((getattr(pool, "_processes", None) or {}).values())
-    pool.shutdown(wait=False, cancel_futures=True)
-    for p in processes:
-        if p.is_alive():
-            p.terminate()
-    deadline = time.monotonic() + grace
-    for p in processes:
-        p.join(max(deadline - time.monotonic(), 0.0))
-        if p.is_alive():
-            p.kill()
-            p.join()
-
-
 def run_pool(tasks, workers, fn):
     """Run ``fn(task)`` on a pool of ``workers`` processes; yield ``(task, row)`` as they finish.
 
-    A task whose worker dies gets an error row (:func:`crash_row`). Closing the
-    generator early, or an exception while it waits, stops the pool at once
-    (:func:`stop_pool`).
+    A task whose worker process dies gets an error row saying how the process
+    ended (:func:`crash_row`); the other tasks go on, on a fresh worker for the
+    queued ones (:func:`heatcore.apps.batch.pool.imap_unordered`). Closing the
+    generator early, or an exception while it waits, stops the workers at once.
 
     Parameters
     ----------
@@ -211,30 +183,18 @@ def run_pool(tasks, workers, fn):
     >>> sorted(row for _, row in run_pool([-1, 2, -3], 2, abs))
     [1, 2, 3]
 
-    A worker that dies (here it exits at once) fails its task only:
+    A worker that dies (here ``os._exit(3)`` ends it at once) fails its task
+    only; a new worker would take the tasks queued behind it:
 
-    >>> [(task, row["status"]) for task, row in run_pool([0], 1, os._exit)]
-    [(0, 'error')]
+    >>> [(task, row["error"]) for task, row in run_pool([3], 1, os._exit)]
+    [(3, 'worker process died (exited with status 3) while computing 3')]
     """
-    tasks = list(tasks)
-    pool = ProcessPoolExecutor(max_workers=min(workers, max(len(tasks), 1)), initializer=worker_init,
-                               initargs=(os.getpid(),))
-    complete = False
+    rows = imap_unordered(fn, tasks, workers, initializer=worker_init, initargs=(os.getpid(),))
     try:
-        futures = {pool.submit(fn, t): t for t in tasks}
-        for fut in as_completed(futures):
-            task = futures[fut]
-            try:
-                row = fut.result()
-            except Exception as exc:  # noqa: BLE001 - a crashed worker (e.g. killed) fails its mesh only
-                row = crash_row(task, exc)
-            yield task, row
-        complete = True
+        for task, ok, value in rows:
+            yield task, (value if ok else crash_row(task, value))
     finally:
-        if complete:
-            pool.shutdown(wait=True)
-        else:
-            stop_pool(pool)
+        rows.close()  # early: stops the workers now
 
 
 # --------------------------------------------------------------------------- Dask
@@ -244,9 +204,16 @@ def run_dask(tasks, scheduler, fn):
     """Run ``fn(task)`` on a ``dask.distributed`` scheduler (address or Client); yield ``(task, row)``.
 
     One Dask task per mesh. A task lost with its worker is rerun by the
-    scheduler on another worker (each task gives one row). Closing the
-    generator early cancels the tasks not finished; a task already running on
-    a worker cannot be interrupted and still writes its result (atomically).
+    scheduler on another worker (each task gives one row). The scheduler gives
+    up on a task once ``distributed.scheduler.allowed-failures`` + 1 workers
+    (4 by default) died while holding it, and it counts every task a dying
+    worker held, also those queued behind the one that killed it. So a task
+    given up that way is tried once more with no other mesh of this batch on
+    the cluster, after the others: a mesh that was only beside the culprit
+    then succeeds, and the culprit fails alone, after at most twice the
+    allowed tries, its row saying so. Closing the generator early cancels the
+    tasks not finished; a task already running on a worker cannot be
+    interrupted and still writes its result (atomically).
 
     Parameters
     ----------
@@ -287,7 +254,7 @@ def run_dask(tasks, scheduler, fn):
     from .spec import BatchError
 
     try:
-        from distributed import Client
+        from distributed import Client, KilledWorker
         from distributed import as_completed as dask_completed
     except ImportError:
         raise InvalidOptionError(
@@ -304,11 +271,31 @@ def run_dask(tasks, scheduler, fn):
         keys = [f"heatcore-batch-{Path(t.path).name}-{uuid.uuid4().hex[:8]}" for t in tasks]
         futures = client.map(fn, tasks, pure=False, key=keys)
         by_key = {f.key: t for f, t in zip(futures, tasks)}
+        suspects = []  # (task, allowed failures): the scheduler gave up on them, maybe for a neighbour's crash
         for fut in dask_completed(futures):
-            task = by_key[fut.key]
+            task, row = by_key[fut.key], None
             try:
                 row = fut.result()
+            except KilledWorker as exc:
+                suspects.append((task, exc.allowed_failures))
             except Exception as exc:  # noqa: BLE001 - a task that failed on every worker fails its mesh only
+                row = crash_row(task, exc)
+            fut.release()
+            if row is not None:
+                yield task, row
+        for task, allowed in suspects:  # alone now: only its own crash can kill its worker
+            fut = client.submit(fn, task, pure=False, key=f"heatcore-batch-alone-{Path(task.path).name}-"
+                                                            f"{uuid.uuid4().hex[:8]}")
+            futures.append(fut)
+            try:
+                row = fut.result()
+            except KilledWorker:
+                row = crash_row(task, RuntimeError())
+                row["error"] = (f"worker process died while computing {task.path}: {2 * (allowed + 1)} Dask workers "
+                                f"died running it, the last {allowed + 1} with no other mesh of this batch beside "
+                                f"it (the scheduler's allowed-failures is {allowed}; out of memory? see the workers' "
+                                f"logs)")
+            except Exception as exc:  # noqa: BLE001 - it failed otherwise this time: its mesh only
                 row = crash_row(task, exc)
             fut.release()
             yield task, row
