@@ -10,6 +10,10 @@ scans), which meshio rejects, are read by :mod:`heatcore.io.ply`.
 A file that cannot be read gives one :class:`~heatcore.errors.InvalidMeshError`
 saying why (an empty file, a PLY without vertices, the reader's own words cut
 to :data:`~heatcore.errors.MAX_DETAIL` characters), never the reader's printout.
+Nor does a file that lies (:mod:`heatcore.io.checks`): a PLY or OFF file whose
+data does not match its header's counts, an OBJ face index that is 0,
+fractional or out of range. OBJ relative indices are resolved against the
+vertices read so far, as the format defines (trimesh counts from the end).
 
 Examples
 --------
@@ -150,12 +154,14 @@ def read_mesh(path):
     ((3, 3), [[0, 1, 2]])
     >>> tmp.cleanup()
     """
+    from .checks import check_mesh_file
+
     path = Path(path)
     check_not_empty(path)
     suffix = path.suffix.lower()
     try:
         if suffix in TRIMESH_SUFFIXES:
-            return _read_trimesh(path)
+            return _read_trimesh(path, check_mesh_file(path))
         if suffix == ".ply":
             return _read_ply(path)
         return _read_meshio(path)
@@ -165,23 +171,46 @@ def read_mesh(path):
         raise InvalidMeshError(f"cannot read mesh file {path}: {short(exc) or type(exc).__name__}") from exc
 
 
-def _read_trimesh(path):
+def _read_trimesh(path, text=None):
+    """``text``: what to read instead of the file (an OBJ with its relative indices made absolute)."""
+    import io
+
     import trimesh
 
-    mesh = trimesh.load(str(path), process=False, maintain_order=True, force="mesh")
+    source = {"file_obj": str(path)} if text is None else {
+        "file_obj": io.BytesIO(text), "file_type": path.suffix.lower()[1:],
+        "resolver": trimesh.resolvers.FilePathResolver(str(path))}
+    mesh = trimesh.load(**source, process=False, maintain_order=True, force="mesh")
     if len(mesh.faces) == 0:
         raise NoFacesError(f"{path} holds no faces")
     return SurfaceMesh(np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces, dtype=np.int64))
 
 
 def _read_ply(path):
-    from .ply import read_header, read_tristrips
+    from .plycheck import check_ply_body, check_ply_size
+
+    header = _read_ply_header(path)
+    check_ply_size(path, header)  # before the readers: meshio would walk a 10**9-face header for minutes
+    mesh = _read_ply_data(path, header)
+    check_ply_body(path, header)  # after them, so that a truncated file keeps the reader's own message
+    return mesh
+
+
+def _read_ply_header(path):
+    from .ply import read_header
 
     header = read_header(path)
     counts = header.counts()
     if not counts.get("vertex"):
         declared = "no vertex element" if "vertex" not in counts else "element vertex 0"
         raise InvalidMeshError(f"{path} holds no vertices (its PLY header declares {declared})")
+    return header
+
+
+def _read_ply_data(path, header):
+    from .ply import read_tristrips
+
+    counts = header.counts()
     if counts.get("tristrips"):
         return SurfaceMesh(*read_tristrips(path, header))
     if not counts.get("face"):

@@ -83,6 +83,10 @@ def read_point_cloud(path):
             f"cannot read {path}: point clouds are read from {', '.join(sorted(POINT_CLOUD_SUFFIXES))} files"
         )
     try:
+        if suffix in (".ply", ".obj"):  # a file whose data does not match its header or faces is an error
+            from .checks import check_mesh_file
+
+            check_mesh_file(path, "point cloud file")
         if suffix == ".ply":
             cloud = _read_ply(path)
         elif suffix == ".obj":

@@ -14,6 +14,10 @@ reading, and the libraries differ there (measured on the shared test meshes):
   merges some neighbours (beast.obj: 32,362 polygons instead of 32,364), and
   trimesh triangulates: neither is used.
 
+Every file is checked first (:func:`heatcore.io.checks.check_mesh_file`): the
+readers trust a PLY or OFF header's counts and cast fractional indices, and
+potpourri3d misreads relative OBJ indices, which are made absolute for it.
+
 Examples
 --------
 >>> import tempfile, pathlib, meshio, numpy as np
@@ -102,17 +106,27 @@ def read_polygon_mesh(path):
     [4]
     >>> tmp.cleanup()
     """
+    from .checks import check_mesh_file
+
     path = Path(path)
     if not path.is_file():
         raise InvalidMeshError(f"mesh file not found: {path}")
-    if path.suffix.lower() == ".ply":  # both readers hang on a header without end_header
-        from .ply import read_header
+    text = check_mesh_file(path)  # before the readers: both hang on a PLY header without end_header
+    if text is not None:  # an OBJ with relative indices: the readers get them made absolute
+        import tempfile
 
-        read_header(path)
+        with tempfile.TemporaryDirectory() as folder:
+            (Path(folder) / path.name).write_bytes(text)
+            return _read_polygons(Path(folder) / path.name, path)
+    return _read_polygons(path, path)
+
+
+def _read_polygons(source, path):
+    """The first reader's polygons of ``source``; errors name ``path``."""
     errors = []
     for reader in (_read_potpourri3d, _read_meshio):
         try:
-            V, offsets, indices = reader(path)
+            V, offsets, indices = reader(source)
         except ImportError as exc:
             errors.append(f"{reader.__name__[6:]} not installed ({exc})")
             continue
