@@ -206,12 +206,19 @@ class IntrinsicTriangulation:
             lengths = face_edge_lengths(V, F)
         return cls(F.copy(), np.array(lengths, dtype=float), halfedge_twins(F, side_edge))
 
-    def flip_to_delaunay(self, max_rounds=10_000):
+    def flip_to_delaunay(self, max_rounds=10_000, flippable=None):
         """Flip non-Delaunay edges in independent batches until none is left.
 
         Each round finds every interior manifold edge whose opposite angles sum
         to more than pi, keeps a set of them that share no face (the most
         violating edge of each face wins), and flips that set at once.
+
+        Parameters
+        ----------
+        max_rounds : int
+        flippable : (n_faces,) bool array, optional
+            Only edges between two of these faces are flipped (a flip keeps
+            its two faces' indices); default all.
 
         Returns
         -------
@@ -221,8 +228,10 @@ class IntrinsicTriangulation:
         total = 0
         tol = 1e-12
         renamed = np.full(self.twin.size, -1, dtype=np.int64)  # scratch for _flip
+        allowed = np.ones(self.faces.shape[0], dtype=bool) if flippable is None else np.asarray(flippable, bool)
         candidates = np.flatnonzero(self.twin > np.arange(self.twin.size))
         for _ in range(max_rounds):
+            candidates = candidates[allowed[candidates // 3] & allowed[self.twin[candidates] // 3]]
             h, t = candidates, self.twin[candidates]
             cot_sum = _opposite_cotangent_sums(self.lengths, h, t)
             f0, f1 = h // 3, t // 3

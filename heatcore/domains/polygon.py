@@ -21,10 +21,14 @@ input vertices; the virtual vertices are eliminated.
 
 Degenerate fan triangles (zero-area polygons, repeated corners) are
 mollified (Sharp and Crane 2020) as in :class:`~heatcore.TriangleMesh`, so
-results stay finite; on clean meshes this changes nothing. ``delaunay=True``
-additionally flips the refinement to intrinsic Delaunay before building its
-operators (an M-matrix Laplacian). That is not the paper's operator and is
-less accurate on the measured meshes (docs/polygon.md), hence off by default.
+results stay finite; on clean meshes this changes nothing. The mesh's own
+triangles (those given, and those of the polygons
+:mod:`~heatcore.domains.polygon_triangulate` triangulates: concave ones and
+those with a nearly straight corner) are flipped to intrinsic Delaunay among
+themselves, as :class:`~heatcore.TriangleMesh` flips them. ``delaunay=True``
+flips the whole refinement, virtual fans included (an M-matrix Laplacian).
+That is not the paper's operator and is less accurate on the measured meshes
+(docs/polygon.md), hence off by default.
 
 Examples
 --------
@@ -220,8 +224,9 @@ class PolygonMesh(MeshDomain):
         it has about that many. Results are reported at the input vertices.
     delaunay : bool, default False
         Build the refined triangle operators on the intrinsic Delaunay
-        triangulation of the refinement (see the module docstring). The
-        default gives the paper's operators.
+        triangulation of the whole refinement (see the module docstring). The
+        default gives the paper's operators on the virtual fans (and flips
+        only the mesh's own triangles).
     split_crossing : bool, default False
         A polygon whose sides cross (a bowtie, a pentagram) has no surface
         for virtual refinement to span: by default it is an
@@ -256,7 +261,9 @@ class PolygonMesh(MeshDomain):
         The refined polygon mesh the operators are built on (input vertices
         first), each part translated to put its first vertex at the origin.
     n_flips : int
-        Intrinsic Delaunay flips on the refinement (0 unless ``delaunay=True``).
+        Intrinsic Delaunay flips on the refinement: among its triangles (those
+        given, and those of triangulated polygons), as :class:`~heatcore.TriangleMesh`
+        flips; with ``delaunay=True`` among the virtual fans' triangles too.
     mollification : (n_parts,) float array
         Length added to every refined edge of each connected part (0 for a
         clean part). Each part also gets its own mean edge length ``h``
@@ -364,7 +371,8 @@ class PolygonMesh(MeshDomain):
         lengths, eps = mollify(face_edge_lengths(self.refined_vertices, F) / face_h, part=face_part, n_parts=count)
         self.mollification = eps * h
         intrinsic = IntrinsicTriangulation.from_mesh(None, F, lengths=lengths, side_edge=unique_edges(F)[1])
-        self.n_flips = intrinsic.flip_to_delaunay() if self.delaunay else 0
+        # the triangles (given, or of the polygons triangulated) flip among themselves, as TriangleMesh's do
+        self.n_flips = intrinsic.flip_to_delaunay(flippable=None if self.delaunay else np.arange(len(F)) < len(tri))
         fan_ops = triangle_operators(intrinsic.lengths * face_h, intrinsic.faces, N, np.zeros(N, bool), 1.0)
 
         L = (P.T @ fan_ops.laplacian @ P).tocsr()
