@@ -18,11 +18,11 @@ Needs bpy (the ``blender`` extra) and matplotlib.
 """
 
 import argparse
-import random
+import sys
 import warnings
+from pathlib import Path
 
-import bpy  # noqa: F401  (bmesh comes with it)
-import bmesh
+import bpy  # noqa: F401  (before pymeshlab and the tests' helpers)
 import matplotlib
 
 matplotlib.use("Agg")
@@ -34,27 +34,8 @@ import heatcore as hc  # noqa: E402
 import heatcore.domains.polygon as polygon_module  # noqa: E402
 from heatcore.domains.polygon import polygon_arrays, triangulate_polygons  # noqa: E402
 
-
-def dissolved_grid(n=24, count=150, seed=0):
-    """Vertices and polygons of an ``n`` x ``n`` grid with ``count`` random interior edges dissolved."""
-    bm = bmesh.new()
-    bmesh.ops.create_grid(bm, x_segments=n, y_segments=n, size=1.0)
-    rng = random.Random(seed)
-    bm.edges.ensure_lookup_table()
-    interior = [e for e in bm.edges if not e.is_boundary]
-    rng.shuffle(interior)
-    done = 0
-    for edge in interior:
-        if done == count:
-            break
-        if edge.is_valid and not edge.is_boundary and len(edge.link_faces) == 2:
-            bmesh.ops.dissolve_edges(bm, edges=[edge], use_verts=False, use_face_split=False)
-            done += 1
-    bm.verts.index_update()
-    V = np.array([v.co[:] for v in bm.verts])
-    P = [[v.index for v in f.verts] for f in bm.faces]
-    bm.free()
-    return V, P
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from concave_meshes import dissolved_grid  # noqa: E402  (Blender's Dissolve Edges, as the tests build it)
 
 
 def folded_polygon_mesh(V, P):
