@@ -123,7 +123,7 @@ def test_suzanne_vs_exact_on_its_fan_triangulation(tmp_path):
     P = manifold_part(m.vertices, m.polygons)
     sources = [100, 200, 300]
     poly, tri = errors(m.vertices, P, sources, fan_exact(m.vertices, P, sources, tmp_path))
-    assert poly <= 0.93 * tri  # measured 0.90x (2.04% vs 2.26%)
+    assert poly <= 0.97 * tri  # measured 0.95x (2.05% vs 2.15%; 0.90x before thin polygons were triangulated)
 
 
 def test_beast_vs_exact_on_its_fan_triangulation(tmp_path):
@@ -132,7 +132,7 @@ def test_beast_vs_exact_on_its_fan_triangulation(tmp_path):
     P = manifold_part(m.vertices, m.polygons)
     sources = [0, 10000, 20000]
     poly, tri = errors(m.vertices, P, sources, fan_exact(m.vertices, P, sources, tmp_path), split_crossing=True)
-    assert poly <= 0.95 * tri and poly < 0.0270  # measured 0.94x (2.66% vs 2.84%)
+    assert poly <= 0.98 * tri and poly < 0.0280  # measured 0.97x (2.76% vs 2.84%; 0.94x, 2.66%, before thin quads were triangulated)
 
 
 # ---------------------------------------------------------------- the refinement

@@ -23,8 +23,8 @@ Degenerate fan triangles (zero-area polygons, repeated corners) are
 mollified (Sharp and Crane 2020) as in :class:`~heatcore.TriangleMesh`, so
 results stay finite; on clean meshes this changes nothing. The mesh's own
 triangles (those given, and those of the polygons
-:mod:`~heatcore.domains.polygon_triangulate` triangulates: concave ones and
-those with a nearly straight corner) are flipped to intrinsic Delaunay among
+:mod:`~heatcore.domains.polygon_triangulate` triangulates: concave,
+straight-cornered and thin ones) are flipped to intrinsic Delaunay among
 themselves, as :class:`~heatcore.TriangleMesh` flips them. ``delaunay=True``
 flips the whole refinement, virtual fans included (an M-matrix Laplacian).
 That is not the paper's operator and is less accurate on the measured meshes
@@ -211,10 +211,9 @@ class PolygonMesh(MeshDomain):
         consecutive corners are merged; polygons left with fewer than three
         corners, and duplicates, are ignored with a warning. Non-planar
         polygons, non-manifold edges and several connected components are
-        fine; unreferenced vertices get ``inf``. Concave polygons and those
+        fine; unreferenced vertices get ``inf``. Concave polygons, those
         with a nearly straight corner (what Blender's Dissolve Edges leaves)
-        are triangulated, so that the result is never worse than on heatcore's
-        own triangulation of the polygons (``n_triangulated``).
+        and thin ones are triangulated (``n_triangulated``; docs/polygon.md).
     refine : "auto" or int, default "auto"
         Levels of polygon-aware refinement before building the operators
         (:mod:`~heatcore.domains.polygon_refine`: each k-gon into k quads at
@@ -254,7 +253,7 @@ class PolygonMesh(MeshDomain):
     n_triangulated : int
         Input polygons triangulated instead (heatcore's triangulation,
         :mod:`~heatcore.domains.polygon_triangulate`): concave ones, whose
-        virtual fan would fold, and those with a nearly straight corner.
+        virtual fan would fold, those with a nearly straight corner, and thin ones.
     part_levels : (n_parts,) int array
         Refinement levels of each connected part; ``levels`` is the largest.
     refinement : PolygonRefinement
