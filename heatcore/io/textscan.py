@@ -140,15 +140,18 @@ def numbers(data, expected, where):
     >>> numbers(b"3 0 x 2\\n", 4, "the faces of m.off")
     Traceback (most recent call last):
     ...
-    heatcore.errors.InvalidMeshError: the faces of m.off hold a token that is not a number (after 2 numbers)
+    heatcore.errors.InvalidMeshError: the faces of m.off hold a token that is not a number, or not 4 numbers
     """
     if expected == 0:
         return np.zeros(0)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # numpy warns, then stops, at a token it cannot parse
-        values = np.fromstring(data, dtype=np.float64, sep=" ")
-    if values.size != expected:
-        raise InvalidMeshError(f"{where} hold a token that is not a number (after {min(values.size, expected)} numbers)")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # numpy 1 warns, then stops, at a token it cannot parse
+            values = np.fromstring(data, dtype=np.float64, sep=" ")
+    except ValueError:  # numpy 2 raises there instead
+        values = None
+    if values is None or values.size != expected:
+        raise InvalidMeshError(f"{where} hold a token that is not a number, or not {expected} numbers")
     return values
 
 
