@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InvalidMeshError
-from .objcheck import check_obj
+from .objcheck import FileScan, scan_obj
 from .plycheck import check_ply_body
 from .textscan import integral, numbers, ranges, scan_lines
 
@@ -61,15 +61,54 @@ def check_mesh_file(path, noun="mesh file"):
     heatcore.errors.InvalidMeshError: cannot read mesh file ...frac.obj: line 4: the face's vertex index 2.7 is not a whole number
     >>> tmp.cleanup()
     """
+    return scan_mesh_file(path, noun).text
+
+
+def scan_mesh_file(path, noun="mesh file"):
+    """Check a mesh file as :func:`check_mesh_file` does; also an OBJ or OFF file's polygons.
+
+    Parameters
+    ----------
+    path : str or path-like
+    noun : str, default "mesh file"
+        What the file is, for the message.
+
+    Returns
+    -------
+    heatcore.io.objcheck.FileScan
+        ``text`` as :func:`check_mesh_file` returns it; ``polygons``, the
+        ``(offsets, corners)`` of every face of an OBJ or OFF file that has a
+        face of more than 3 corners (None otherwise); ``materials``, whether
+        an OBJ file has ``usemtl`` lines; ``vertices``, an OFF file's
+        vertices where it has polygons (trimesh fails on an OFF file of
+        triangles and larger polygons mixed).
+
+    Raises
+    ------
+    InvalidMeshError
+        The file does not hold what it declares.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(tmp.name) / "quad.off"
+    >>> _ = path.write_text("OFF\\n4 1 0\\n0 0 0\\n1 0 0\\n1 1 0\\n0 1 0\\n4 0 1 2 3\\n")
+    >>> [a.tolist() for a in scan_mesh_file(path).polygons]
+    [[0, 4], [0, 1, 2, 3]]
+    >>> tmp.cleanup()
+    """
     path = Path(path)
     suffix = path.suffix.lower()
+    if suffix == ".obj":
+        return scan_obj(path, noun)
     if suffix == ".ply":
         check_ply_body(path, noun=noun)
     elif suffix == ".off":
-        check_off(path, noun)
-    elif suffix == ".obj":
-        return check_obj(path, noun)
-    return None
+        polygons = check_off(path, noun)
+        if polygons is not None:
+            return FileScan(None, polygons[:2], False, polygons[2])
+    return FileScan(None, None, False)
 
 
 def check_off(path, noun="mesh file"):
@@ -85,6 +124,13 @@ def check_off(path, noun="mesh file"):
     path : str or path-like
     noun : str, default "mesh file"
         What the file is, for the message.
+
+    Returns
+    -------
+    tuple or None
+        ``(offsets, corners, vertices)``: every face's corners and the
+        ``(n, 3)`` vertices when some face has more than 3 corners; None when
+        all are triangles (the vertices are not parsed then).
 
     Raises
     ------
@@ -111,10 +157,10 @@ def check_off(path, noun="mesh file"):
         data = re.sub(rb"#[^\n]*", lambda m: b" " * len(m.group()), data)
     lines = scan_lines(data)
     if lines.start.size == 0:
-        return
+        return None
     head = data[lines.start[0]:lines.end[0]].split()
     if not head[0].endswith(b"OFF") or b"BINARY" in head[1:]:
-        return  # not an OFF text file: left to the readers to refuse
+        return None  # not an OFF text file: left to the readers to refuse
     counts, rest = (head[1:], 1) if len(head) > 1 else (data[lines.start[1]:lines.end[1]].split() if lines.start.size > 1 else [], 2)
     try:
         n_vertices, n_faces = int(counts[0]), int(counts[1])
@@ -133,18 +179,24 @@ def check_off(path, noun="mesh file"):
             _check_off_faces(data, faces, n_vertices, where)
             raise InvalidMeshError(f"{where}: its OFF header declares {declared} {name} but the data ends after "
                                    f"{got} of them (a truncated file, or a header that overcounts)")
-    _check_off_faces(data, faces, n_vertices, where)
+    polygons = _check_off_faces(data, faces, n_vertices, where)
     extra = lines.start.size - (rest + n_vertices + n_faces)
     if extra > 0:
         raise InvalidMeshError(f"{where}: {extra} more line{'s' if extra > 1 else ''} of data follow"
                                f"{'s' if extra == 1 else ''} the {n_faces} faces its OFF header declares "
                                f"(line {lines.number[rest + n_vertices + n_faces]}: a header that undercounts, "
                                "or trailing data)")
+    if polygons is None:
+        return None
+    values = numbers(data[vertices.start[0]:vertices.end[-1]], int(vertices.tokens.sum()), f"{where}: the vertex lines")
+    first = np.r_[0, np.cumsum(vertices.tokens)[:-1]]
+    return (*polygons, values[first[:, None] + np.arange(3)])
 
 
 def _check_off_faces(data, faces, n_vertices, where):
+    """The faces' ``(offsets, corners)`` when some face has more than 3 corners, else None."""
     if faces.start.size == 0:
-        return
+        return None
     values = numbers(data[faces.start[0]:faces.end[-1]], int(faces.tokens.sum()), f"{where}: the face lines")
     first = np.r_[0, np.cumsum(faces.tokens)[:-1]]
     count = values[first]
@@ -166,3 +218,4 @@ def _check_off_faces(data, faces, n_vertices, where):
             k = int(np.flatnonzero(bad)[0])
             raise InvalidMeshError(f"{where}: line {faces.number[face[k]]}: face {face[k]} references vertex "
                                    f"{index[k]:g}, which {why}")
+    return (np.r_[0, np.cumsum(count)], index.astype(np.int64)) if count.max() > 3 else None

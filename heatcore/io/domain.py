@@ -4,7 +4,7 @@ Used by the command line (and by anything that takes "a mesh file" without knowi
 With ``kind="auto"``: volume formats holding tetrahedra become a :class:`~heatcore.TetMesh`,
 point lists (``.xyz``, and PLY/OBJ files without faces) a
 :class:`~heatcore.domains.pointcloud.PointCloud`, everything else a :class:`~heatcore.TriangleMesh`
-(polygons fan-triangulated). ``kind="polygon"`` keeps the polygons for a
+(polygons triangulated by :mod:`heatcore.io.faces`, inside each polygon). ``kind="polygon"`` keeps the polygons for a
 :class:`~heatcore.PolygonMesh` (needs potpourri3d to read OBJ files with texture coordinates).
 
 Examples
@@ -38,8 +38,9 @@ class DomainFile:
     kind : {"triangle", "polygon", "tet", "points"}
     vertices : (n, 3) float array
     surface : (m, 3) int array or None
-        Triangles to draw and to write in a PLY (fan triangles of polygons,
-        boundary faces of a tet mesh once built, None for points).
+        Triangles to draw and to write in a PLY (polygons triangulated by
+        :mod:`heatcore.io.faces`, boundary faces of a tet mesh once built,
+        None for points).
     cells : object
         Triangles, ``(offsets, indices)`` polygons, ``(m, 4)`` tets, or
         normals (or None) for points.
@@ -144,11 +145,12 @@ def read_domain(path, kind="auto"):
     if kind == "points" or (kind == "auto" and suffix in POINT_SUFFIXES):
         return _points(path)
     if kind == "polygon":
-        from ..domains.polygon import fan_triangulate
+        from .faces import triangulate_faces
         from .polygon import read_polygon_mesh
 
         poly = read_polygon_mesh(path)
-        return DomainFile("polygon", poly.vertices, fan_triangulate(poly.offsets, poly.indices)[0], poly.polygons)
+        surface = triangulate_faces(poly.vertices, poly.offsets, poly.indices, f"cannot read mesh file {path}")
+        return DomainFile("polygon", poly.vertices, surface, poly.polygons)
     from .mesh import read_mesh
 
     try:

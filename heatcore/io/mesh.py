@@ -70,7 +70,7 @@ class SurfaceMesh:
     Attributes
     ----------
     vertices : (n, 3) float array
-    faces : (m, 3) int array, triangles (polygons fan-triangulated)
+    faces : (m, 3) int array, triangles (polygons triangulated by :mod:`heatcore.io.faces`)
     vertex_data : dict of (n,) arrays, extra per-vertex properties (PLY)
 
     Examples
@@ -154,14 +154,14 @@ def read_mesh(path):
     ((3, 3), [[0, 1, 2]])
     >>> tmp.cleanup()
     """
-    from .checks import check_mesh_file
+    from .checks import scan_mesh_file
 
     path = Path(path)
     check_not_empty(path)
     suffix = path.suffix.lower()
     try:
         if suffix in TRIMESH_SUFFIXES:
-            return _read_trimesh(path, check_mesh_file(path))
+            return _read_trimesh(path, scan_mesh_file(path))
         if suffix == ".ply":
             return _read_ply(path)
         return _read_meshio(path)
@@ -171,19 +171,30 @@ def read_mesh(path):
         raise InvalidMeshError(f"cannot read mesh file {path}: {short(exc) or type(exc).__name__}") from exc
 
 
-def _read_trimesh(path, text=None):
-    """``text``: what to read instead of the file (an OBJ with its relative indices made absolute)."""
+def _read_trimesh(path, scan):
+    """``scan``: :func:`~heatcore.io.checks.scan_mesh_file`'s answer (the text to read, the polygons)."""
     import io
 
     import trimesh
 
+    from .faces import triangulate_faces
+
+    if scan.vertices is not None:  # read by the scan (an OFF file with polygons)
+        return SurfaceMesh(scan.vertices, triangulate_faces(scan.vertices, *scan.polygons,
+                                                            f"cannot read mesh file {path}"))
+    text = scan.text
+    if scan.materials:  # trimesh splits an OBJ at each usemtl, each part with its own copy of the vertices
+        text = (text if text is not None else path.read_bytes()).replace(b"usemtl", b"usemt_")
     source = {"file_obj": str(path)} if text is None else {
         "file_obj": io.BytesIO(text), "file_type": path.suffix.lower()[1:],
         "resolver": trimesh.resolvers.FilePathResolver(str(path))}
     mesh = trimesh.load(**source, process=False, maintain_order=True, force="mesh")
     if len(mesh.faces) == 0:
         raise NoFacesError(f"{path} holds no faces")
-    return SurfaceMesh(np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces, dtype=np.int64))
+    V = np.asarray(mesh.vertices, dtype=float)
+    if scan.polygons is None:
+        return SurfaceMesh(V, np.asarray(mesh.faces, dtype=np.int64))
+    return SurfaceMesh(V, triangulate_faces(V, *scan.polygons, f"cannot read mesh file {path}"))
 
 
 def _read_ply(path):
@@ -243,19 +254,19 @@ def _read_meshio(path):
 
 
 def _surface(mesh, path):
-    faces = []
-    for block in mesh.cells:
-        data = np.asarray(block.data, dtype=np.int64)
-        if block.type == "triangle":
-            faces.append(data)
-        elif block.type == "quad" or block.type.startswith("polygon"):
-            k = data.shape[1]
-            fan = np.stack([np.zeros(k - 2, int), np.arange(1, k - 1), np.arange(2, k)], axis=1)
-            faces.append(data[:, fan].reshape(-1, 3))
-    if not faces:
+    """meshio's triangle and polygon blocks as triangles (:mod:`heatcore.io.faces`), in block order."""
+    from .faces import triangulate_faces
+
+    blocks = [np.asarray(b.data, dtype=np.int64) for b in mesh.cells
+              if b.type in ("triangle", "quad") or b.type.startswith("polygon")]
+    if not blocks:
         raise NoFacesError(f"{path} holds no triangles or polygons")
+    V = np.asarray(mesh.points, dtype=float)[:, :3]
+    sizes = np.concatenate([np.full(len(b), b.shape[1]) for b in blocks])
+    faces = triangulate_faces(V, np.r_[0, np.cumsum(sizes)], np.concatenate([b.ravel() for b in blocks]),
+                              f"cannot read mesh file {path}")
     data = {k: np.asarray(v) for k, v in mesh.point_data.items() if np.ndim(v) == 1}
-    return SurfaceMesh(np.asarray(mesh.points, dtype=float)[:, :3], np.concatenate(faces), data)
+    return SurfaceMesh(V, faces, data)
 
 
 def write_ply(path, V, F, quality, colors, selection=None, texcoords=None):

@@ -11,7 +11,9 @@ silently. :func:`check_obj` finds every face's vertex indices with numpy
 (:mod:`heatcore.io.textscan`; no loop over lines), raises on an index that
 is 0, fractional, past the vertices of the file or before the first one, and
 returns the text with relative indices made absolute, for the libraries to
-read, where the file has any.
+read, where the file has any. :func:`scan_obj` also returns every face's
+corners when some face has more than 3, for heatcore to triangulate
+(:mod:`heatcore.io.faces`): the libraries' fans fold on concave polygons.
 
 Examples
 --------
@@ -31,11 +33,40 @@ f 2 4 3
 """
 
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
 from ..errors import InvalidMeshError
 from .textscan import count_between, integral, is_space, numbers
+
+
+class FileScan(NamedTuple):
+    """What a scan of a mesh file learns besides its errors (:func:`scan_obj`, :func:`~heatcore.io.checks.scan_mesh_file`).
+
+    Attributes
+    ----------
+    text : bytes or None
+        The file's text with relative indices made absolute, None when it has none.
+    polygons : tuple of int arrays or None
+        ``(offsets, corners)``: every face's vertex indices (0-based, in the
+        file's numbering, relative ones resolved) when some face has more
+        than 3 corners; None when all are triangles (not parsed then).
+    materials : bool
+        The file has ``usemtl`` lines (OBJ).
+    vertices : (n, 3) float array or None
+        The file's vertices, where the scan read them (an OFF file with polygons).
+
+    Examples
+    --------
+    >>> FileScan(None, None, False).polygons is None
+    True
+    """
+
+    text: object
+    polygons: object
+    materials: bool
+    vertices: object = None
 
 
 def check_obj(path, noun="mesh file"):
@@ -73,9 +104,42 @@ def check_obj(path, noun="mesh file"):
     heatcore.errors.InvalidMeshError: cannot read mesh file ...zero.obj: line 4: a face references vertex 0, but OBJ indices start at 1 (-1 is the last vertex read)
     >>> tmp.cleanup()
     """
+    return scan_obj(path, noun).text
+
+
+def scan_obj(path, noun="mesh file"):
+    """Check an OBJ file as :func:`check_obj` does; also its polygons, where it has any.
+
+    Parameters
+    ----------
+    path : str or path-like
+    noun : str, default "mesh file"
+        What the file is, for the message.
+
+    Returns
+    -------
+    FileScan
+
+    Raises
+    ------
+    InvalidMeshError
+        As :func:`check_obj`.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(tmp.name) / "quad.obj"
+    >>> _ = path.write_text("v 0 0 0\\nv 1 0 0\\nv 1 1 0\\nv 0 1 0\\nf 1 2 3 -1\\nf 1 2 3\\n")
+    >>> offsets, corners = scan_obj(path).polygons
+    >>> offsets.tolist(), corners.tolist()
+    ([0, 4, 7], [0, 1, 2, 3, 0, 1, 2])
+    >>> tmp.cleanup()
+    """
     path = Path(path)
     data = path.read_bytes()
     where = f"cannot read {noun} {path}"
+    materials = b"usemtl" in data
     a = np.frombuffer(data, dtype=np.uint8)
     newline = np.flatnonzero(a == 10)
     starts, ends = np.r_[0, newline + 1], np.r_[newline, a.size]
@@ -85,7 +149,7 @@ def check_obj(path, noun="mesh file"):
     is_v = spaced & (head == ord("v"))
     is_f = spaced & (head == ord("f"))
     if not is_f.any():
-        return None
+        return FileScan(None, None, materials)
     lines = np.flatnonzero(is_f)
     before = np.cumsum(is_v)[lines]  # vertices read before each face line
     n_vertices = int(is_v.sum())
@@ -106,7 +170,8 @@ def check_obj(path, noun="mesh file"):
             index = _vertex_indices(t, first[k:k + 1], where)
             raise InvalidMeshError(f"{where}: line {number[k]}: a face references vertex {index[0]:.0f} but the "
                                    f"file has {n_vertices} vertices")
-        return None
+        if corners.max() == 3:  # triangles only: nothing more to parse
+            return FileScan(None, None, materials)
     index = _vertex_indices(t, first, where)
     relative = np.repeat(before, corners)
     problems = [
@@ -121,9 +186,11 @@ def check_obj(path, noun="mesh file"):
         if bad.any():
             k = int(np.flatnonzero(bad)[0])
             raise InvalidMeshError(f"{where}: line {number[k]}: {why(k)}")
-    if not (index < 0).any():
-        return None
-    return _absolute(data)
+    polygons = None
+    if corners.max() > 3:
+        vertex = np.where(index < 0, relative + index, index - 1).astype(np.int64)
+        polygons = (np.r_[0, np.cumsum(corners)].astype(np.int64), vertex)
+    return FileScan(_absolute(data) if (index < 0).any() else None, polygons, materials)
 
 
 def _face_text(data, starts, ends):

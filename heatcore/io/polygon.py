@@ -1,7 +1,7 @@
 """Reading polygon meshes (OBJ, PLY, OFF) with their polygons kept whole.
 
-:func:`heatcore.io.read_mesh` fan-triangulates polygons (trimesh does so on
-load). For :class:`~heatcore.domains.polygon.PolygonMesh` the polygons must survive
+:func:`heatcore.io.read_mesh` triangulates polygons (:mod:`heatcore.io.faces`;
+the libraries fan them on load). For :class:`~heatcore.domains.polygon.PolygonMesh` the polygons must survive
 reading, and the libraries differ there (measured on the shared test meshes):
 
 * potpourri3d's ``read_polygon_mesh`` (geometry-central's readers) keeps
