@@ -37,6 +37,7 @@ Examples
 
 import numpy as np
 
+from .ear_clipping import delaunay_triangles
 from .polygon_shape import plane_coordinates
 
 #: Relative size (of a polygon's squared extent) below which a corner's turn counts as none (rounding).
@@ -163,7 +164,7 @@ def triangulate_polygons(X, offsets, corners):
         elif k == 4:
             local = _quad_splits(plane_coordinates(X[idx]))
         else:
-            local = np.stack([_polygon_triangles(q) for q in plane_coordinates(X[idx])])
+            local = delaunay_triangles(_counterclockwise(plane_coordinates(X[idx])), STRAIGHT_TOLERANCE)
         parts.append(np.take_along_axis(idx[:, None, :], local.reshape(polygons.size, -1)[:, None, :], 2)
                      .reshape(-1, 3))
         owners.append(np.repeat(polygons, k - 2))
@@ -199,87 +200,6 @@ def _angle(Q, at, i, j):
     """Angle at corner ``at`` between the directions to corners ``i`` and ``j`` of polygons ``(p, k, 2)``."""
     u, v = Q[:, i] - Q[:, at], Q[:, j] - Q[:, at]
     return np.arctan2(np.abs(_cross(np.zeros(2), u, v)), np.einsum("pd,pd->p", u, v))
-
-
-def _polygon_triangles(Q):
-    """Local triangles ``(k - 2, 3)`` of one simple polygon ``(k, 2)``: ear clipping, then Delaunay flips."""
-    Q = _counterclockwise(Q[None])[0]
-    triangles = _ear_clip(Q)
-    return _delaunay_flips(Q, triangles)
-
-
-def _ear_clip(Q):
-    """Ears of a counterclockwise polygon ``(k, 2)`` cut one by one: ``(k - 2, 3)`` local indices."""
-    k = Q.shape[0]
-    prv, nxt = np.roll(np.arange(k), 1), np.roll(np.arange(k), -1)
-    alive = np.ones(k, dtype=bool)
-    tol = STRAIGHT_TOLERANCE * np.ptp(Q, axis=0).max() ** 2
-
-    def is_ear(i):
-        a, c = prv[i], nxt[i]
-        if _cross(Q[a], Q[i], Q[c]) <= tol:
-            return False
-        others = alive.copy()
-        others[[a, i, c]] = False
-        others &= ~(Q == Q[a]).all(axis=1) & ~(Q == Q[i]).all(axis=1) & ~(Q == Q[c]).all(axis=1)
-        P = Q[others]
-        inside = (_cross(Q[a], Q[i], P) >= -tol) & (_cross(Q[i], Q[c], P) >= -tol) & (_cross(Q[c], Q[a], P) >= -tol)
-        return not inside.any()
-
-    ear = np.array([is_ear(i) for i in range(k)])
-    triangles = []
-    for _ in range(k - 3):
-        candidates = np.flatnonzero(ear & alive)
-        if candidates.size:
-            i = int(candidates[0])
-        else:  # only straight or reflex corners left (numerically): cut the least reflex one
-            live = np.flatnonzero(alive)
-            i = int(live[np.argmax(_cross(Q[prv[live]], Q[live], Q[nxt[live]]))])
-        a, c = int(prv[i]), int(nxt[i])
-        triangles.append((a, i, c))
-        alive[i] = False
-        nxt[a], prv[c] = c, a
-        ear[a], ear[c] = is_ear(a), is_ear(c)
-    last = np.flatnonzero(alive)
-    i = int(last[0])
-    triangles.append((int(prv[i]), i, int(nxt[i])))
-    return np.array(triangles, dtype=np.int64)
-
-
-def _delaunay_flips(Q, triangles):
-    """Lawson flips of the diagonals of a triangulated polygon until each is locally Delaunay."""
-    t = [list(map(int, tri)) for tri in triangles]
-    k = Q.shape[0]
-    for _ in range(4 * k * k):  # each flip removes a Delaunay violation; this bound is never reached
-        flipped = False
-        owner = {}
-        for f, tri in enumerate(t):
-            for s in range(3):
-                owner.setdefault(_key(tri[s], tri[(s + 1) % 3], k), []).append((f, s))
-        for pair in owner.values():
-            if len(pair) != 2:
-                continue
-            (f, s), (g, r) = pair
-            a, b, c = t[f][s], t[f][(s + 1) % 3], t[f][(s + 2) % 3]
-            d = t[g][(r + 2) % 3]
-            angles = _corner_angle(Q, c, a, b) + _corner_angle(Q, d, b, a)
-            if angles <= np.pi + 1e-12 or _cross(Q[a], Q[d], Q[c]) <= 0 or _cross(Q[d], Q[b], Q[c]) <= 0:
-                continue
-            t[f], t[g] = [a, d, c], [d, b, c]
-            flipped = True
-            break
-        if not flipped:
-            break
-    return np.array(t, dtype=np.int64)
-
-
-def _key(i, j, k):
-    return min(i, j) * k + max(i, j)
-
-
-def _corner_angle(Q, at, i, j):
-    u, v = Q[i] - Q[at], Q[j] - Q[at]
-    return float(np.arctan2(abs(u[0] * v[1] - u[1] * v[0]), u @ v))
 
 
 def triangulate_where_needed(X, offsets, corners, origin):
