@@ -11,7 +11,6 @@ it by value through cloudpickle). Before the fix every test here failed: the loc
 
 import csv
 import os
-import signal
 import subprocess
 import sys
 import textwrap
