@@ -28,10 +28,7 @@ Examples
 """
 
 from abc import ABC, abstractmethod
-from functools import cached_property
-
 import numpy as np
-import scipy.sparse as sp
 
 from ..errors import InvalidSourceError
 from .parts import row_norms
@@ -111,34 +108,39 @@ class Domain(ABC):
     def input_positions(self):
         """``(n_input_vertices, 3)`` positions of the vertices (or points) as given, in the input's units."""
 
-    @cached_property
-    def straight_neighbours(self):
-        """Input vertices joined by a straight segment that lies in the domain, with its length: ``(n, n)`` CSR.
+    def straight_neighbours(self, vertices):
+        """Input vertices joined to one of ``vertices`` by a straight segment that lies in the domain, and its length.
 
-        The sides of its triangles, polygons or tets: the distance between
-        such a pair is exactly the segment's length. Empty on a point cloud
-        (points are not joined by segments on the surface). Computed on first
-        use and kept with the domain.
+        The sides of its triangles, polygons or tets (and the diagonals of flat
+        polygons): the distance between such a pair is exactly the segment's
+        length. None on a point cloud (its points are not joined by segments
+        on the surface). Only the elements at ``vertices`` are read: a query
+        costs one pass over the elements, and nothing is kept.
+
+        Returns
+        -------
+        neighbours : int array, repeated where several of ``vertices`` reach one
+        lengths : float array
 
         Examples
         --------
         >>> import numpy as np
         >>> from heatcore.domains import TriangleMesh
-        >>> A = TriangleMesh(np.array([[0, 0, 0], [3, 0, 0], [0, 4, 0]], float), [[0, 1, 2]], refine=0).straight_neighbours
-        >>> A.toarray().tolist()
-        [[0.0, 3.0, 4.0], [3.0, 0.0, 5.0], [4.0, 5.0, 0.0]]
+        >>> mesh = TriangleMesh(np.array([[0, 0, 0], [3, 0, 0], [0, 4, 0]], float), [[0, 1, 2]], refine=0)
+        >>> near, lengths = mesh.straight_neighbours(np.array([0]))
+        >>> sorted(zip(near.tolist(), lengths.tolist()))
+        [(1, 3.0), (2, 4.0)]
         """
-        a, b = self._element_sides()
-        n = self.n_input_vertices
-        keys = np.unique(np.minimum(a, b) * n + np.maximum(a, b))
-        a, b = keys // n, keys % n
-        a, b = a[a != b], b[a != b]
+        mark = np.zeros(self.n_input_vertices, dtype=bool)
+        mark[vertices] = True
+        a, b = self._element_sides(mark)
+        from_a, from_b = mark[a] & (a != b), mark[b] & (a != b)
+        near, start = np.r_[b[from_a], a[from_b]], np.r_[a[from_a], b[from_b]]
         X = self.input_positions
-        lengths = row_norms(X[a] - X[b])
-        return sp.csr_matrix((np.r_[lengths, lengths], (np.r_[a, b], np.r_[b, a])), shape=(n, n))
+        return near, row_norms(X[near] - X[start])
 
-    def _element_sides(self):
-        """Start and end (input vertex indices) of every side of every kept element."""
+    def _element_sides(self, mark):
+        """Start and end (input vertex indices) of the sides of the kept elements with a ``mark``ed corner."""
         return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
 
     def point_corners(self, points):

@@ -392,9 +392,12 @@ class PolygonMesh(MeshDomain):
         time_h = h * np.where(refined, np.sqrt(REFINED_TIME_FACTOR), 1.0)
         return Operators(L, mass, G, fan_ops.volumes, 2, boundary, elements, time_h[part])
 
-    def _element_sides(self):
-        """The polygons' sides, and the diagonals of the flat ones (convex, or triangulated), which lie in them."""
-        return straight_chords(self.vertices, *self._spanned)
+    def _element_sides(self, mark):
+        """The sides of the polygons at ``mark``ed corners, and the diagonals of the flat ones, which lie in them."""
+        offsets, corners = self._spanned
+        sizes = np.diff(offsets)
+        touched = np.bincount(np.repeat(np.arange(sizes.size), sizes), weights=mark[corners], minlength=sizes.size) > 0
+        return straight_chords(self.vertices, np.r_[0, np.cumsum(sizes[touched])], corners[np.repeat(touched, sizes)])
 
     def _pin_edges(self, edges, pins):
         """Polygon edges (vertex pairs): their end points and the refined vertices on them, at distance 0."""

@@ -259,7 +259,7 @@ def straight_chords(X, offsets, corners):
     [(0, 1), (0, 2), (0, 3), (1, 2), (1, 2), (1, 3), (1, 4), (2, 3), (4, 5), (5, 2)]
     """
     sizes = np.diff(offsets)
-    starts, ends = [], []
+    starts, ends = [np.zeros(0, dtype=np.int64)], [np.zeros(0, dtype=np.int64)]
     for k in np.unique(sizes):
         polygons = np.flatnonzero(sizes == k)
         idx = corners[offsets[polygons][:, None] + np.arange(k)]

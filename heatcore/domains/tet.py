@@ -183,10 +183,10 @@ class TetMesh(MeshDomain):
         faces = faces[(faces >= 0).all(axis=1)]  # faces of flat tets' own vertices are no surface
         self.operators = tet_operators(self._positions, self.vertex_map[oriented[kept]], boundary, faces)
 
-    def _element_sides(self):
-        kept = self.tets[self.tet_map >= 0]
+    def _element_sides(self, mark):
+        tets = self.tets[mark[self.tets].any(axis=1) & (self.tet_map >= 0)]
         a, b = np.triu_indices(4, 1)
-        return kept[:, a].ravel(), kept[:, b].ravel()
+        return tets[:, a].ravel(), tets[:, b].ravel()
 
     def _point_elements(self):
         return self.tets

@@ -220,9 +220,9 @@ class TriangleMesh(MeshDomain):
         tri, sub = self.intrinsic, self.subdivision
         return [tri.faces, sub.faces], [tri.lengths, face_edge_lengths(sub.vertices, sub.faces)]
 
-    def _element_sides(self):
-        kept = self.faces[self.face_map >= 0]
-        return kept.ravel(), np.roll(kept, -1, axis=1).ravel()
+    def _element_sides(self, mark):
+        faces = self.faces[mark[self.faces].any(axis=1) & (self.face_map >= 0)]
+        return faces.ravel(), np.roll(faces, -1, axis=1).ravel()
 
     def _point_elements(self):
         return self.faces

@@ -9,7 +9,7 @@ on every domain:
 * **upper**: a side of a triangle, polygon or tet is a straight segment that
   lies in the domain, so a vertex joined to a source vertex by one is at most
   that segment's length away
-  (:attr:`~heatcore.domains.base.Domain.straight_neighbours`);
+  (:meth:`~heatcore.domains.base.Domain.straight_neighbours`);
 * **lower**: no path on a surface or through a volume is shorter than the
   straight line, so the distance to a set of source points is at least the
   Euclidean distance to the nearest of them.
@@ -131,8 +131,7 @@ def source_bounds(domain, component, vertices, kinds):
     is_source = np.zeros(op.size + 1, dtype=bool)  # by operator vertex: a welded twin is the source too
     is_source[op[given]] = True
     sources = np.flatnonzero(is_source[op]) if given.size else given
-    A = domain.straight_neighbours
-    near, lengths = _with_twins(op, *_neighbours(A, sources))
+    near, lengths = _with_twins(op, *domain.straight_neighbours(sources))
     points, part, seeds = [X[given]], [component[op[given]]], [sources]
     if "points" in kinds:
         corners = domain.point_corners(kinds["points"])
@@ -142,7 +141,7 @@ def source_bounds(domain, component, vertices, kinds):
     points, part = np.concatenate(points), np.concatenate(part)
     ring = _with_twins(op, np.unique(np.concatenate(seeds)))[0]
     for _ in range(RINGS):
-        ring = _with_twins(op, np.union1d(ring, _neighbours(A, ring)[0]))[0]
+        ring = _with_twins(op, np.union1d(ring, domain.straight_neighbours(ring)[0]))[0]
     other = {k: v for k, v in kinds.items() if k != "points"}
     if other:  # an edge or a region: its points are not listed, so its part gets no lower bound
         blocked = component[domain.source_pins(None, **other).vertices]
@@ -164,11 +163,3 @@ def _with_twins(op, vertices, values=None):
     reached = best[op]
     twins = np.flatnonzero(reached < np.inf)
     return twins, reached[twins]
-
-
-def _neighbours(A, vertices):
-    """Straight neighbours of ``vertices`` (repeated where shared) and the segment lengths to them."""
-    starts, stops = A.indptr[vertices], A.indptr[vertices + 1]
-    counts = stops - starts
-    pos = np.repeat(starts - np.r_[0, np.cumsum(counts)[:-1]], counts) + np.arange(counts.sum())
-    return A.indices[pos], A.data[pos]
