@@ -125,6 +125,7 @@ class HeatSolver(VoronoiQueries, PathQueries):
             raise InvalidOptionError(f"accuracy='high' is available on triangle meshes, not on {type(domain).__name__}")
         self.accuracy = accuracy
         self.domain = domain
+        self._bounded = 0  # queries bounded near their sources (steps/source_bounds.py)
         self.m = float(m)
         progress = Progress(progress)
         progress(0.0, "connected components")
@@ -236,7 +237,7 @@ class HeatSolver(VoronoiQueries, PathQueries):
         pins = self.domain.source_pins(vertices, **source_keywords(sources, stacklevel=3))
         phi = np.append(self.distance_from_pins(pins), np.inf)
         d = phi[self.domain.output_vertices]  # index -1 (unreferenced) reads the appended inf
-        return source_bounds(self.domain, self.component, vertices, sources).apply(d)
+        return self._source_bounds(vertices, sources).apply(d)
 
     def distance_from_pins(self, pins):
         """Distance at every operator vertex, in the input's units, for prepared :class:`~heatcore.domains.sources.SourcePins`.
@@ -364,8 +365,15 @@ class HeatSolver(VoronoiQueries, PathQueries):
             return None
         if isinstance(source, Mapping):
             kinds = dict(source)
-            return source_bounds(self.domain, self.component, kinds.pop("vertices", None), kinds)
-        return source_bounds(self.domain, self.component, source, {})
+            return self._source_bounds(kinds.pop("vertices", None), kinds, many=True)
+        return self._source_bounds(source, {}, many=True)
+
+    def _source_bounds(self, vertices, kinds, many=False):
+        """The bounds near a source; from the second query (or in a block) the domain indexes its segments."""
+        self._bounded += 1
+        if many or self._bounded > 1:
+            self.domain.index_straight_neighbours()
+        return source_bounds(self.domain, self.component, vertices, kinds)
 
     def _distances_from_pins(self, block):
         """:meth:`distance_from_pins` of several sources as columns ``(n, k)``."""

@@ -172,3 +172,20 @@ def test_soup_copies_read_one_distance():
     d_soup = hc.HeatSolver(hc.TriangleMesh(soup_V, soup_F, refine=0)).distance([int(np.flatnonzero(F.ravel() == 0)[0])])
     d = hc.HeatSolver(hc.TriangleMesh(V, F, refine=0)).distance([0])
     np.testing.assert_allclose(d_soup, d[F.ravel()], rtol=1e-9, atol=1e-12)
+
+
+def test_indexed_segments_equal_the_one_pass_ones():
+    """A one-off query reads the elements at the sources; many queries look them up in a kept table."""
+    from scipy.spatial import Delaunay
+
+    V, F = hc.io.load_demo_mesh()
+    Vq = np.array([[x, y, 0.1 * x * y] for y in range(5) for x in range(5)], float)
+    quads = [[5 * y + x, 5 * y + x + 1, 5 * y + x + 6, 5 * y + x + 5] for y in range(4) for x in range(4)]
+    P = np.random.default_rng(3).random((200, 3))
+    for domain in (hc.TriangleMesh(V, F), PolygonMesh(Vq, quads), TetMesh(P, Delaunay(P).simplices)):
+        vertices = np.array([0, 3, 7])
+        once = domain.straight_neighbours(vertices)
+        domain.index_straight_neighbours()
+        looked_up = domain.straight_neighbours(vertices)
+        assert sorted(set(zip(*(x.tolist() for x in once)))) == sorted(set(zip(*(x.tolist() for x in looked_up))))
+        assert once[0].size > 0

@@ -28,6 +28,7 @@ Examples
 """
 
 from abc import ABC, abstractmethod
+
 import numpy as np
 
 from ..errors import InvalidSourceError
@@ -113,9 +114,10 @@ class Domain(ABC):
 
         The sides of its triangles, polygons or tets (and the diagonals of flat
         polygons): the distance between such a pair is exactly the segment's
-        length. None on a point cloud (its points are not joined by segments
-        on the surface). Only the elements at ``vertices`` are read: a query
-        costs one pass over the elements, and nothing is kept.
+        length. Nothing on a point cloud (its points are not joined by
+        segments on the surface). Reads only the elements at ``vertices`` (one
+        pass over the elements, nothing kept: a one-off query pays no index),
+        or, after :meth:`index_straight_neighbours`, looks them up.
 
         Returns
         -------
@@ -130,14 +132,39 @@ class Domain(ABC):
         >>> near, lengths = mesh.straight_neighbours(np.array([0]))
         >>> sorted(zip(near.tolist(), lengths.tolist()))
         [(1, 3.0), (2, 4.0)]
+        >>> mesh.index_straight_neighbours()
+        >>> sorted(zip(*(x.tolist() for x in mesh.straight_neighbours(np.array([0])))))
+        [(1, 3.0), (2, 4.0)]
         """
-        mark = np.zeros(self.n_input_vertices, dtype=bool)
-        mark[vertices] = True
+        table = self.__dict__.get("_straight_table")
+        if table is None:
+            mark = np.zeros(self.n_input_vertices, dtype=bool)
+            mark[vertices] = True
+            return self._straight_segments(mark)
+        indptr, neighbours = table
+        vertices = np.asarray(vertices, dtype=np.int64).reshape(-1)
+        counts = indptr[vertices + 1] - indptr[vertices]
+        pos = np.repeat(indptr[vertices] - np.r_[0, np.cumsum(counts)[:-1]], counts) + np.arange(counts.sum())
+        near, start = neighbours[pos], np.repeat(vertices, counts)
+        X = self.input_positions
+        return near, row_norms(X[near] - X[start])
+
+    def index_straight_neighbours(self):
+        """Build, once, the table of every vertex's straight segments, kept with the domain (for many queries)."""
+        if "_straight_table" not in self.__dict__:
+            self._straight_table = self._straight_segments(np.ones(self.n_input_vertices, dtype=bool), table=True)
+
+    def _straight_segments(self, mark, table=False):
+        """The segments from ``mark``ed vertices: ``(neighbours, lengths)``; with ``table``, their ``(indptr, neighbours)``
+        by start vertex, as a CSR matrix's structure (lengths are computed per query, for the few looked up)."""
         a, b = self._element_sides(mark)
         from_a, from_b = mark[a] & (a != b), mark[b] & (a != b)
         near, start = np.r_[b[from_a], a[from_b]], np.r_[a[from_a], b[from_b]]
-        X = self.input_positions
-        return near, row_norms(X[near] - X[start])
+        X, n = self.input_positions, self.n_input_vertices
+        if not table:
+            return near, row_norms(X[near] - X[start])
+        order = np.argsort(start, kind="stable")  # rows by start; a segment of two elements stands twice
+        return np.r_[0, np.cumsum(np.bincount(start, minlength=n))], near[order]
 
     def _element_sides(self, mark):
         """Start and end (input vertex indices) of the sides of the kept elements with a ``mark``ed corner."""

@@ -240,7 +240,8 @@ def _hops_from(graph, roots):
 def row_norms(D):
     """Euclidean norms of the rows of ``D`` at any finite scale (no overflow at 1e300, no underflow at 1e-300).
 
-    Each row is divided by a power of two near its largest entry before squaring.
+    Rows whose largest entry lies outside 1e-150 .. 1e150 are divided by a power of two near it
+    before squaring; the others are squared as they are.
 
     Examples
     --------
@@ -248,7 +249,11 @@ def row_norms(D):
     >>> bool(np.allclose(norms, [5e-300, 5e300, 0.0], rtol=1e-15, atol=0))
     True
     """
-    D = np.asarray(D, dtype=float)
-    largest = np.abs(D).max(axis=-1, keepdims=True)
-    exponent = np.frexp(np.where(largest > 0, largest, 1.0))[1]
-    return np.ldexp(np.linalg.norm(np.ldexp(D, -exponent), axis=-1), exponent[..., 0])
+    D = np.asarray(D, dtype=float).reshape(-1, np.shape(D)[-1])
+    norms = np.sqrt(np.einsum("ij,ij->i", D, D))
+    largest = np.abs(D).max(axis=1, initial=0.0)
+    odd = np.flatnonzero(~((largest > 1e-150) & (largest < 1e150)))  # squares that would under- or overflow
+    if odd.size:
+        exponent = np.frexp(np.where(largest[odd] > 0, largest[odd], 1.0))[1]
+        norms[odd] = np.ldexp(np.linalg.norm(np.ldexp(D[odd], -exponent[:, None]), axis=1), exponent)
+    return norms
