@@ -87,12 +87,12 @@ KNOWN = {
     ('cube-bumps-limited5', 1): 'measured 2.57 / 5.98 / 5.22% against 2.82 / 5.72 / 5.10% (x1.05)',
     ('cube-bumps-limited5', 2): 'measured 1.77 / 5.16 / 4.67% against 2.16 / 4.80 / 3.93% (x1.19)',
     ('cube-bumps-limited5', 'auto'): 'measured 1.29 / 2.73 / 1.91% against 2.28 / 2.55 / 1.89% (x1.07)',
-    ('plate-holes', 1): 'measured 3.18 / 1.47 / 2.56% against 2.77 / 1.36 / 2.15% (x1.19)',
-    ('plate-holes', 2): 'measured 2.08 / 1.03 / 1.77% against 1.80 / 1.18 / 1.62% (x1.15)',
-    ('plate-holes', 'auto'): 'measured 1.30 / 0.72 / 1.20% against 1.21 / 1.15 / 1.35% (x1.07)',
+    ('plate-holes', 1): 'measured 3.19 / 1.48 / 2.56% against 2.77 / 1.35 / 2.15% (x1.19)',
+    ('plate-holes', 2): 'measured 2.08 / 1.03 / 1.77% against 1.80 / 1.15 / 1.62% (x1.15)',
+    ('plate-holes', 'auto'): 'measured 1.30 / 0.71 / 1.20% against 1.21 / 1.11 / 1.35% (x1.07)',
     ('text-heat-GS', 1): 'measured 13.81 / 4.75 / 5.89% against 10.61 / 3.70 / 4.79% (x1.30)',
     ('text-heat-GS', 2): 'measured 11.59 / 3.85 / 4.99% against 9.45 / 2.96 / 3.75% (x1.33)',
-    ('text-heat-GS', 'auto'): 'measured 4.08 / 1.23 / 3.09% against 3.74 / 1.17 / 2.69% (x1.15)',
+    ('text-heat-GS', 'auto'): 'measured 4.08 / 1.23 / 3.09% against 3.73 / 1.23 / 2.62% (x1.18)',
 }
 
 
