@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_batch_integrity import write_grid
 
 from heatcore.apps.batch import load_distances, run_batch
 from heatcore.apps.batch import run as batch_run
@@ -42,18 +43,6 @@ CRASHY = textwrap.dedent(
 
 FAST = {"refine": 0}
 N_GOOD = 6
-
-
-def write_grid(path, nx, ny):
-    """A wavy ``nx x ny`` triangle grid (OBJ)."""
-    x, y = np.meshgrid(np.linspace(0, 1, nx), np.linspace(0, 1, ny), indexing="ij")
-    V = np.column_stack([x.ravel(), y.ravel(), 0.1 * np.sin(3 * x.ravel()) * np.cos(2 * y.ravel())])
-    idx = np.arange(nx * ny).reshape(nx, ny)
-    a, b, c, d = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()
-    F = np.concatenate([np.column_stack([a, b, c]), np.column_stack([a, c, d])]) + 1
-    lines = [f"v {p[0]!r} {p[1]!r} {p[2]!r}" for p in V] + [f"f {i} {j} {k}" for i, j, k in F]
-    Path(path).write_text("\n".join(lines) + "\n")
-    return Path(path)
 
 
 @pytest.fixture
