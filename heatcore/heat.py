@@ -27,43 +27,30 @@ Examples
 import logging
 import time
 from collections.abc import Mapping
-from concurrent.futures import Future
 
 import numpy as np
-import scipy.sparse as sp
 
 from .domains.parts import first_of_each, hop_diameters, vertex_components, vertex_graph
 from .domains.sources import SourcePins, source_keywords
-from .errors import InvalidOptionError, SolverError
+from .errors import UnsupportedDomainError
 from .high_accuracy import high_accuracy_distance, high_accuracy_needs_heat
-from .linalg import (
-    Ordering,
-    choose_backend,
-    factor,
-    fill_reducing_ordering,
-    restrict_ordering,
-    solve_columns,
-    start_nested_dissection,
-)
 from .linalg.factor import domain_factors
-from .options import check
-from .paths.queries import PathQueries
 from .progress import Progress
+from .settings import SolverSettings
 from .steps.blocks import block_columns, source_sequence
-from .steps.boundary_source import BoundarySourceHeat
-from .steps.heat_flow import HeatFlow
-from .steps.poisson import MAX_PRECOMPUTED_PINS, PinnedPoisson, grounded
+from .steps.factors import HeatStep, SolverFactors
+from .steps.poisson import MAX_PRECOMPUTED_PINS
 from .steps.source_bounds import source_bounds
 from .steps.time_step import underflow_safe_m
 from .steps.unit_field import minus_divergence, minus_divergence_columns, unit_field
-from .voronoi import VoronoiQueries
+from .voronoi import nearest_source
 
 log = logging.getLogger("heatcore")
 
 #: The solver's options, declared in :mod:`heatcore.options`.
 OPTION_NAMES = ("m", "boundary", "accuracy", "backend")
 
-class HeatSolver(VoronoiQueries, PathQueries):
+class HeatSolver:
     """Prefactored heat-method distance on one domain; cheap queries.
 
     Parameters
@@ -119,30 +106,28 @@ class HeatSolver(VoronoiQueries, PathQueries):
     >>> d0, d1 = solver.distance([0]), solver.distance([10, 20])
     """
 
-    def __init__(self, domain, *, m=1.0, boundary="robin", accuracy="smooth", backend="auto", progress=None):
-        m, boundary, accuracy, backend = (check(k, v) for k, v in zip(OPTION_NAMES, (m, boundary, accuracy, backend)))
-        if accuracy == "high" and not domain.supports_high_accuracy:
-            raise InvalidOptionError(f"accuracy='high' is available on triangle meshes, not on {type(domain).__name__}")
-        self.accuracy = accuracy
+    def __init__(self, domain, settings=None, *, progress=None, **options):
+        settings = SolverSettings.of(settings, **options)
+        if settings.accuracy == "high" and not domain.supports_high_accuracy:
+            raise UnsupportedDomainError(f"accuracy='high' is available on triangle meshes, not on {type(domain).__name__}")
+        self.settings = settings
+        self.accuracy = settings.accuracy
+        self.m = settings.m
         self.domain = domain
         self._bounded = 0  # queries bounded near their sources (steps/source_bounds.py)
-        self.m = float(m)
         progress = Progress(progress)
         progress(0.0, "connected components")
         ops = self.ops = domain.operators
         self.timings = {}
         start = time.perf_counter()
         n = ops.n_vertices
-        self.boundary = boundary if ops.boundary.any() else "neumann"
-        self._backend = backend
-        self._laplacian = ops.laplacian.tocsr()
-        # Factorizations and orderings that depend on the domain only (not on m or
-        # the boundary condition) are shared by every solver built on it.
-        self._domain_cache = domain_factors(domain)
+        self.boundary = settings.boundary if ops.boundary.any() else "neumann"
+        # Orderings and the Laplacian's factor depend on the domain only: its cache shares them among its solvers.
+        self.factors = SolverFactors(ops, domain_factors(domain), settings, self.timings)
         # accuracy="high" with numba needs no factorization: they wait for a first use (heat_flow, poisson).
-        self._pending = (backend, progress) if accuracy == "high" and not high_accuracy_needs_heat() else None
-        if self._pending is None:
-            self._start_nested_dissection(backend)
+        deferred = settings.accuracy == "high" and not high_accuracy_needs_heat()
+        if not deferred:
+            self.factors.start()
 
         graph = vertex_graph(ops.elements, n)
         self.n_components, self.component = vertex_components(ops.elements, n, graph)
@@ -158,59 +143,29 @@ class HeatSolver(VoronoiQueries, PathQueries):
         self._ground = ground
         h = np.broadcast_to(ops.mean_edge_length, (n,))
         step = self.part_m[self.component] * h * h  # in each vertex's unit; constant on each component
-        self._time_step = step[0] if (step == step[0]).all() else step
+        time_step = step[0] if (step == step[0]).all() else step
         self._element_h = h[0] if (h == h[0]).all() else h[ops.elements[:, 0]]
         self.t = np.ldexp(step[ground], 2 * np.broadcast_to(ops.unit_exponent, (n,))[ground])
         self._gradient_transposed = ops.gradient.T  # a view: -div X = G^T (volumes * X)
         self.timings["setup"] = time.perf_counter() - start
-        if self._pending is None:
-            self._prefactor(backend, progress)
+        heat = HeatStep(time_step, self.boundary, self.component, self.n_components, ground)
+        if deferred:
+            self.factors.defer(heat, progress)
+        else:
+            self.factors.build(heat, progress)
         log.info("heat solver ready: %d operator vertices, %d components, t=%.3g..%.3g, boundary=%s (%.2f s)", n,
                  self.n_components, self.t.min(), self.t.max(), self.boundary, sum(self.timings.values()))
         progress(1.0, "heat solver ready")
 
     @property
     def heat_flow(self):
-        """Step 1, :class:`~heatcore.steps.heat_flow.HeatFlow` (factored here where it waits)."""
-        self._factor_pending()
-        return self._heat_flow
+        """Step 1, :class:`~heatcore.steps.heat_flow.HeatFlow` (built on this first use where it was deferred)."""
+        return self.factors.heat_flow()
 
     @property
     def poisson(self):
-        """Step 3, :class:`~heatcore.steps.poisson.PinnedPoisson` (factored here where it waits)."""
-        self._factor_pending()
-        return self._poisson
-
-    def _factor_pending(self):
-        if self._pending is not None:
-            (backend, progress), self._pending = self._pending, None
-            self._start_nested_dissection(backend)
-            self._prefactor(backend, progress)
-
-    def _start_nested_dissection(self, backend):
-        """On large meshes: a better ordering for the Poisson factor, computed in the background while
-        the heat matrix is factored (with the quick ordering)."""
-        poisson_backend = self._resolve(backend, "solve")
-        if ("poisson", backend) not in self._domain_cache and ("nested", poisson_backend) not in self._domain_cache:
-            self._domain_cache["nested", poisson_backend] = start_nested_dissection(self._laplacian, poisson_backend)
-
-    def _prefactor(self, backend, progress):
-        """Factor the heat and the Poisson matrices (the Poisson one kept on the domain, for fast solves)."""
-        start = time.perf_counter()
-        self._factor_heat(self._resolve(backend, "factor"), progress.part(0.05, 0.7))
-        self.timings["heat factorization"] = time.perf_counter() - start
-        start = time.perf_counter()
-        progress(0.7, "factoring the Poisson matrix")
-        poisson_backend = self._resolve(backend, "solve")
-        if ("poisson", backend) not in self._domain_cache:
-            K = grounded(self._laplacian, self._ground)
-            self._domain_cache["poisson", backend] = factor(K, poisson_backend, ordering=self._laplacian_ordering(poisson_backend))
-        self._poisson = PinnedPoisson(self._laplacian, self._domain_cache["poisson", backend], self._ground, self.component,
-                                      self.n_components, self._factor_free)
-        self.timings["poisson factorization"] = time.perf_counter() - start
-        for ordering in self._domain_cache.values():
-            if isinstance(ordering, Ordering):
-                ordering.forget_pattern()  # its memory matters more than re-converting for another m
+        """Step 3, :class:`~heatcore.steps.poisson.PinnedPoisson` (built on this first use where it was deferred)."""
+        return self.factors.poisson()
 
     def distance(self, vertices=None, **sources):
         """Geodesic distance from the given sources to every input vertex.
@@ -234,10 +189,8 @@ class HeatSolver(VoronoiQueries, PathQueries):
             Distance per input vertex; ``inf`` where no source can be reached
             (another connected component, or a vertex used by no element).
         """
-        pins = self.domain.source_pins(vertices, **source_keywords(sources, stacklevel=3))
-        phi = np.append(self.distance_from_pins(pins), np.inf)
-        d = phi[self.domain.output_vertices]  # index -1 (unreferenced) reads the appended inf
-        return self._source_bounds(vertices, sources).apply(d)
+        kinds = source_keywords(sources, stacklevel=3)
+        return self.distances([{"vertices": vertices, **kinds}])[0]
 
     def distance_from_pins(self, pins):
         """Distance at every operator vertex, in the input's units, for prepared :class:`~heatcore.domains.sources.SourcePins`.
@@ -245,21 +198,7 @@ class HeatSolver(VoronoiQueries, PathQueries):
         The pins hold distances in the operators' units (see
         :class:`~heatcore.domains.operators.Operators`), as the domain builds them.
         """
-        if self.accuracy == "high":
-            return high_accuracy_distance(self.domain, pins, lambda: self._heat_distance(pins))
-        return self._heat_distance(pins)
-
-    def _heat_distance(self, pins):
-        """:meth:`distance_from_pins` by the heat method (``accuracy="smooth"``)."""
-        u = self.heat(pins.heat)
-        b = minus_divergence(self.ops, self._gradient_transposed, u, self._element_h)
-        reached = None if self.n_components == 1 else np.isin(self.component, self.component[pins.vertices])
-        phi = self.poisson.solve(b, pins, reached)
-        phi[pins.vertices] = pins.values
-        np.maximum(phi, 0.0, out=phi)
-        if reached is not None:
-            phi[~reached] = np.inf
-        return np.ldexp(phi, self.ops.unit_exponent)
+        return self._distances_from_pins([pins])[:, 0]
 
     def distances(self, sources_block, *, max_memory_mb=None):
         """Geodesic distances from each of ``k`` sources: one row per source, computed together.
@@ -321,23 +260,26 @@ class HeatSolver(VoronoiQueries, PathQueries):
             block.append(self._block_source_pins(source))
         outputs = np.asarray(self.domain.output_vertices)
         rows = np.empty((len(block), outputs.size))
-        solo = [j for j, pins in enumerate(block) if pins.vertices.size > MAX_PRECOMPUTED_PINS]
-        for j in solo:  # factors a pinned system of its own, as distance() does
-            rows[j] = np.append(self.distance_from_pins(block[j]), np.inf)[outputs]
-        columns = sorted(set(range(len(block))).difference(solo))
-        width = self.block_columns(max_memory_mb)
-        for start in range(0, len(columns), width):
-            chunk = columns[start : start + width]
+        for chunk in self._chunks(block, max_memory_mb):
             phi = self._distances_from_pins([block[j] for j in chunk])  # (n, k), columns contiguous
             extended = np.empty((len(chunk), phi.shape[0] + 1))
             extended[:, :-1] = phi.T
             extended[:, -1] = np.inf  # index -1 (unreferenced) reads inf
             rows[chunk] = extended[:, outputs]
         for row, source in zip(rows, sources):
-            bounds = self._block_source_bounds(source)
+            bounds = self._block_source_bounds(source, many=len(sources) > 1)
             if bounds is not None:
                 bounds.apply(row)
         return rows
+
+    def _chunks(self, block, max_memory_mb):
+        """The block's sources solved together, as lists of positions: a source with more than
+        ``MAX_PRECOMPUTED_PINS`` pins alone (it factors a pinned system of its own), the others by
+        :meth:`block_columns`."""
+        solo = [j for j, pins in enumerate(block) if pins.vertices.size > MAX_PRECOMPUTED_PINS]
+        columns = sorted(set(range(len(block))).difference(solo))
+        width = self.block_columns(max_memory_mb) if columns else 1
+        return [[j] for j in solo] + [columns[start : start + width] for start in range(0, len(columns), width)]
 
     def block_columns(self, max_memory_mb=None):
         """Sources of one vertex each that :meth:`distances` solves at once (:func:`heatcore.steps.blocks.block_columns`).
@@ -359,14 +301,17 @@ class HeatSolver(VoronoiQueries, PathQueries):
             return self.domain.source_pins(kinds.pop("vertices", None), **source_keywords(kinds, stacklevel=4))
         return self.domain.source_pins(source)
 
-    def _block_source_bounds(self, source):
-        """:class:`~heatcore.steps.source_bounds.SourceBounds` of one source of a block (None for prepared pins)."""
+    def _block_source_bounds(self, source, many):
+        """:class:`~heatcore.steps.source_bounds.SourceBounds` of one source of a block (None for prepared pins).
+
+        ``many``: one of several sources (the domain indexes its segments at once, see :meth:`_source_bounds`).
+        """
         if isinstance(source, SourcePins):
             return None
         if isinstance(source, Mapping):
             kinds = dict(source)
-            return self._source_bounds(kinds.pop("vertices", None), kinds, many=True)
-        return self._source_bounds(source, {}, many=True)
+            return self._source_bounds(kinds.pop("vertices", None), kinds, many)
+        return self._source_bounds(source, {}, many)
 
     def _source_bounds(self, vertices, kinds, many=False):
         """The bounds near a source; from the second query (or in a block) the domain indexes its segments."""
@@ -376,7 +321,7 @@ class HeatSolver(VoronoiQueries, PathQueries):
         return source_bounds(self.domain, self.component, vertices, kinds)
 
     def _distances_from_pins(self, block):
-        """:meth:`distance_from_pins` of several sources as columns ``(n, k)``."""
+        """Distances from each of the prepared pins in ``block``, as columns ``(n, k)`` at the operator vertices."""
         if self.accuracy != "high":
             return self._heat_distances(block)
         heat = []  # the block's heat distances, computed on first need (the pass without numba)
@@ -392,22 +337,23 @@ class HeatSolver(VoronoiQueries, PathQueries):
         return phi
 
     def _heat_distances(self, block):
-        """:meth:`_distances_from_pins` by the heat method, with multi-column solves."""
+        """:meth:`_distances_from_pins` by the heat method: one column's solves, or multi-column ones."""
         n, k = self.ops.n_vertices, len(block)
-        impulse = np.empty((n, k), order="F")  # columns contiguous: what one-column backends read
-        for j, pins in enumerate(block):
-            impulse[:, j] = pins.heat
-        u = np.asfortranarray(self.heat(impulse))  # columns contiguous
-        del impulse
-        b = minus_divergence_columns(self.ops, self._gradient_transposed, u, self._element_h)
-        del u
-        b[self._ground] = 0.0
-        phi = solve_columns(self.poisson.factor, b)  # as PinnedPoisson.solve_grounded, for every column
-        del b
-        for j, pins in enumerate(block):
-            column = phi[:, j]  # a view: pinned in place, as PinnedPoisson.solve does
-            self.poisson.apply_pins(column, pins.vertices, pins.values)
-            column[pins.vertices] = pins.values
+        if k == 1:
+            pins = block[0]
+            u = self.heat(pins.heat)
+            b = minus_divergence(self.ops, self._gradient_transposed, u, self._element_h)
+            reached = None if self.n_components == 1 else np.isin(self.component, self.component[pins.vertices])
+            phi = self.poisson.solve(b, pins, reached)[:, None]
+        else:
+            impulse = np.empty((n, k), order="F")  # columns contiguous: what one-column backends read
+            for j, pins in enumerate(block):
+                impulse[:, j] = pins.heat
+            u = np.asfortranarray(self.heat(impulse))  # columns contiguous
+            del impulse
+            b = minus_divergence_columns(self.ops, self._gradient_transposed, u, self._element_h)
+            del u
+            phi = self.poisson.solve_block(b, block)
         np.maximum(phi, 0.0, out=phi)
         if self.n_components > 1:
             hit = np.zeros((self.n_components, k), dtype=bool)
@@ -417,6 +363,54 @@ class HeatSolver(VoronoiQueries, PathQueries):
         exponent = self.ops.unit_exponent
         return np.ldexp(phi, exponent[:, None] if np.ndim(exponent) else exponent)
 
+    def nearest_source(self, sources, *, return_distance=False, max_memory_mb=None):
+        """The index (into ``sources``) of the nearest source at every vertex: :func:`heatcore.voronoi.nearest_source`."""
+        return nearest_source(self, sources, return_distance=return_distance, max_memory_mb=max_memory_mb)
+
+    def geodesic_path(self, source, target, *, both_ends=True):
+        """The shortest path on the surface from ``source`` to ``target`` (triangle meshes).
+
+        Parameters
+        ----------
+        source, target : int or (int, (3,) array_like)
+            A vertex index, or a surface point ``(face, barycentric)``: a face
+            index of the input mesh and three barycentric coordinates (>= 0,
+            summing to 1).
+        both_ends : bool, default True
+            Also descend on the distance from ``target`` (a second query,
+            kept for the next path) and keep the shorter result. False: one
+            query per source, paths from it 5-10 times faster, and the
+            largest excess over the exact length about 0.5% instead of 0.1%
+            (docs/paths.md).
+
+        Returns
+        -------
+        GeodesicPath
+            ``points`` from ``source`` to ``target`` on the input faces,
+            ``faces``/``edges``/``vertices`` crossed and ``length``. The same
+            point twice gives a one-point path of length 0.
+
+        Raises
+        ------
+        UnsupportedDomainError
+            The solver's domain is not a :class:`~heatcore.TriangleMesh`.
+        InvalidSourceError
+            A bad index or coordinates, a vertex no face uses, or a target in
+            another connected part than the source (the message names both).
+
+        Notes
+        -----
+        The distance from ``source`` is one query of the solver's
+        factorizations, kept for further targets from the same source. The
+        path is a geodesic (straight across every edge, bending only at
+        saddle or boundary vertices) in the homotopy class the heat distance
+        points to: the shortest path except where two routes are within the
+        heat distance's error of each other (docs/paths.md has the figures).
+        """
+        from .paths.path import geodesic_path  # paths import this module
+
+        return geodesic_path(self, source, target, both_ends)
+
     def heat(self, impulse):
         """Heat after one backward Euler step of length ``t`` from ``impulse`` ((n,), or (n, k): k columns at once)."""
         return self.heat_flow.solve(impulse)
@@ -424,50 +418,3 @@ class HeatSolver(VoronoiQueries, PathQueries):
     def unit_field(self, u):
         """``-grad u / |grad u|`` per element, 0 where the gradient vanishes or is not finite (see :mod:`heatcore.steps.unit_field`)."""
         return unit_field(self.ops, u, 1.0, self._element_h)
-
-    def _factor_heat(self, backend, progress):
-        """Factor ``M + t L`` for the boundary condition (Neumann, interior-only Dirichlet, or both)."""
-        ops = self.ops
-        step = self._time_step
-        heat_matrix = (sp.diags(ops.mass) + (step * ops.laplacian if np.ndim(step) == 0 else sp.diags(step) @ ops.laplacian)).tocsr()
-        dirichlet, interior = None, None
-        if self.boundary in ("robin", "dirichlet"):
-            interior = np.flatnonzero(~ops.boundary)
-            if interior.size:
-                progress(0.0, "factoring the heat matrix (interior vertices, for the Dirichlet condition)")
-                ordering = restrict_ordering(self._ordering(backend), interior)
-                dirichlet = factor(heat_matrix[interior][:, interior], backend, ordering=ordering)
-        # Neumann: the condition itself, half of Robin, or the fallback where Dirichlet sees no heat.
-        progress(0.0 if dirichlet is None else 0.5, "factoring the heat matrix")
-        neumann = factor(heat_matrix, backend, ordering=self._ordering(backend))
-        self._heat_flow = HeatFlow(neumann, dirichlet, interior, self.boundary, self.component, self.n_components,
-                                  BoundarySourceHeat(ops, self._laplacian, step, neumann))
-
-    def _resolve(self, backend, prefer):
-        """The backend that ``backend`` stands for on this domain's matrices."""
-        return choose_backend(self.ops.n_vertices, prefer) if backend == "auto" else backend
-
-    def _ordering(self, backend):
-        """The fill-reducing ordering ``backend`` uses on this domain's matrices (cached on the domain)."""
-        if ("ordering", backend) not in self._domain_cache:
-            self._domain_cache["ordering", backend] = fill_reducing_ordering(self._laplacian, backend)
-        return self._domain_cache["ordering", backend]
-
-    def _laplacian_ordering(self, backend):
-        """The best ordering at hand for the Laplacian: nested dissection where it was started, else the quick one."""
-        nested = self._domain_cache.get(("nested", backend))
-        if isinstance(nested, Future):
-            try:
-                nested = self._ordering(backend).reordered(nested.result())
-            except SolverError as exc:  # pragma: no cover - METIS ran out of memory, say
-                log.warning("%s; using the minimum degree ordering", exc)
-                nested = None
-            self._domain_cache["nested", backend] = nested
-        return nested or self._ordering(backend)
-
-    def _factor_free(self, free):
-        """Factor of the Laplacian on the ``free`` vertices (a pinned system of many pins), ordered as the Laplacian."""
-        backend = self._resolve(self._backend, "factor")
-        ordering = restrict_ordering(self._laplacian_ordering(backend), free)
-        return factor(self._laplacian[free][:, free], backend, ordering=ordering)
-

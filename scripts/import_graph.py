@@ -57,8 +57,9 @@ ROOTS = ("heatcore", "blender_addon")
 # siblings: neither imports the other. The flat names of the layout before 0d3c9d9 are listed
 # too, so that an old revision is judged by the same rules.
 LAYERS = [
-    ("foundation", [("foundation", "errors, options and progress: what every layer may raise, declare or report",
-                     ["heatcore.errors", "heatcore.options", "heatcore.options.*", "heatcore.progress"])]),
+    ("foundation", [("foundation", "errors, options, settings and progress: what every layer may raise, declare or report",
+                     ["heatcore.errors", "heatcore.options", "heatcore.options.*", "heatcore.settings",
+                      "heatcore.progress"])]),
     ("linalg", [("linalg", "sparse SPD factorizations, orderings; no geometry",
                  ["heatcore.linalg", "heatcore.linalg.*", "heatcore.sparse_rhs"])]),
     ("domains", [("domains", "what the heat method runs on: operators and source pins",

@@ -136,7 +136,7 @@ def test_solver_reuses_factorizations_across_queries(monkeypatch):
     V, F = grid(21, 21)
     solver = hc.HeatSolver(hc.TriangleMesh(V, F))
     calls = []
-    monkeypatch.setattr(hc.heat, "factor", lambda *a, **k: calls.append(1))
+    monkeypatch.setattr(hc.steps.factors, "factor", lambda *a, **k: calls.append(1))
     for s in (0, 5, 100):
         assert np.isfinite(solver.distance([s])).all()
     solver.distance([0, 1, 2])

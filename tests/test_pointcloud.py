@@ -173,7 +173,7 @@ def test_bad_sources(spot):
         solver.distance()
     with pytest.raises(InvalidSourceError, match="only"):
         solver.distance(points=([0], [[1.0, 0.0, 0.0]]))
-    with pytest.raises(InvalidOptionError):
+    with pytest.raises(hc.errors.UnsupportedDomainError):
         hc.HeatSolver(PointCloud(spot[0]), accuracy="high")
 
 

@@ -434,5 +434,5 @@ def test_unreferenced_vertices_and_bad_sources():
         solver.distance([25])
     with pytest.raises(hc.InvalidSourceError, match="out of range"):
         solver.distance([26])
-    with pytest.raises(hc.InvalidOptionError):
+    with pytest.raises(hc.errors.UnsupportedDomainError):
         hc.HeatSolver(PolygonMesh(V, Q), accuracy="high")

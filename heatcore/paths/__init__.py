@@ -5,7 +5,6 @@
 - :mod:`~heatcore.paths.funnel`: the shortest path inside an unfolded strip of faces;
 - :mod:`~heatcore.paths.straighten`: bends cut until the path is a geodesic;
 - :mod:`~heatcore.paths.path`: :class:`GeodesicPath` and the driver;
-- :mod:`~heatcore.paths.queries`: :class:`PathQueries`, which :class:`~heatcore.HeatSolver` inherits;
 - :mod:`~heatcore.paths.edges`: :func:`edge_chain`, mesh edges along a path (front ends select them).
 
 Examples
@@ -18,6 +17,5 @@ Examples
 
 from .edges import edge_chain
 from .path import GeodesicPath
-from .queries import PathQueries
 
-__all__ = ["GeodesicPath", "PathQueries", "edge_chain"]
+__all__ = ["GeodesicPath", "edge_chain"]

@@ -28,6 +28,7 @@ Examples
 import numpy as np
 import scipy.sparse as sp
 
+from ..linalg import solve_columns
 from .column_cache import ColumnCache
 
 #: Up to this many pinned vertices, the pinned Poisson solve reuses the
@@ -108,11 +109,25 @@ class PinnedPoisson:
         if P.size > MAX_PRECOMPUTED_PINS:
             everywhere = np.ones(self.laplacian.shape[0], dtype=bool)
             return self._factor_pinned(b, P, d, everywhere if reached is None else reached)
-        if P.size > 1:
-            phi = self._solve_in_halves(b, P, d)
-            if phi is not None:
-                return phi
-        return self.apply_pins(self.solve_grounded(b), P, d)
+        phi = self._solve_in_halves(b, P, d) if P.size > 1 else None
+        if phi is None:
+            phi = self.apply_pins(self.solve_grounded(b), P, d)
+        phi[P] = d  # exactly
+        return phi
+
+    def solve_block(self, b, block):
+        """:meth:`solve` of the ``k`` columns of ``b`` (n, k), column ``j`` pinned by ``block[j]``; ``b`` is overwritten.
+
+        One multi-column grounded solve (:func:`heatcore.linalg.solve_columns`), then each column's pins
+        (:meth:`apply_pins`). Sources of more than ``MAX_PRECOMPUTED_PINS`` pins go through :meth:`solve`.
+        """
+        b[self.ground] = 0.0
+        phi = solve_columns(self.factor, b)  # as solve_grounded, for every column
+        for j, pins in enumerate(block):
+            column = phi[:, j]  # a view: pinned in place
+            self.apply_pins(column, pins.vertices, pins.values)
+            column[pins.vertices] = pins.values  # exactly
+        return phi
 
     def solve_grounded(self, rhs):
         """Solve ``L x = rhs`` per component with ``x = 0`` at each component's ground vertex (``rhs`` is overwritten)."""

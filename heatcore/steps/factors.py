@@ -1,0 +1,226 @@
+"""The factorizations of one heat solver: the heat matrix and the grounded Laplacian.
+
+:class:`SolverFactors` resolves the ``backend`` option once, for the solver's
+intent (:data:`heatcore.settings.INTENTS`: a solver kept for many queries, or
+asked one), factors the heat matrix ``M + t L`` of the solver's time step and
+boundary condition (:class:`~heatcore.steps.heat_flow.HeatFlow`, step 1) and
+the grounded Laplacian (:class:`~heatcore.steps.poisson.PinnedPoisson`, step
+3). What depends on the domain alone (fill-reducing orderings, METIS nested
+dissection started in the background on large meshes, the Laplacian's factor)
+is kept in the domain's cache, keyed by the backend it was made for, and
+shared by every solver on the domain.
+
+A solver may build them at once (:meth:`SolverFactors.build`) or leave them
+until a step first needs them (``accuracy="high"`` with numba needs none):
+:meth:`~SolverFactors.heat_flow` and :meth:`~SolverFactors.poisson` build
+what is missing.
+
+Examples
+--------
+>>> import heatcore as hc
+>>> solver = hc.HeatSolver(hc.TriangleMesh(*hc.io.load_demo_mesh()))
+>>> factors = solver.factors
+>>> factors.heat_backend in hc.linalg.available_backends(), factors.built
+(True, True)
+"""
+
+import logging
+import time
+from concurrent.futures import Future
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import SolverError
+from ..linalg import (
+    Ordering,
+    choose_backend,
+    factor,
+    fill_reducing_ordering,
+    restrict_ordering,
+    start_nested_dissection,
+)
+from ..progress import Progress
+from .boundary_source import BoundarySourceHeat
+from .heat_flow import HeatFlow
+from .poisson import PinnedPoisson, grounded
+
+log = logging.getLogger("heatcore")
+
+
+def _resolve_backend(backend, n, *, intent, stage):  # TEMP until linalg has it
+    if backend != "auto":
+        return backend
+    return choose_backend(n, "once" if intent == "one query" else stage)
+
+
+@dataclass(frozen=True)
+class HeatStep:
+    """What the heat matrix depends on besides the domain: the solver's time step and boundary condition.
+
+    Attributes
+    ----------
+    time_step : float or (n,) float array
+        ``t`` of each operator vertex, in its part's unit (constant on each component).
+    boundary : {"robin", "neumann", "dirichlet"}
+    component : (n,) int array
+        Connected component of each operator vertex.
+    n_components : int
+    ground : (n_components,) int array
+        The vertex of each component held at 0 in the grounded Laplacian.
+
+    Examples
+    --------
+    >>> step = HeatStep(0.5, "neumann", np.zeros(3, int), 1, np.array([0]))
+    >>> step.time_step, step.n_components
+    (0.5, 1)
+    """
+
+    time_step: object
+    boundary: str
+    component: np.ndarray
+    n_components: int
+    ground: np.ndarray
+
+
+class SolverFactors:
+    """The heat and Poisson factorizations of one solver, built once.
+
+    Parameters
+    ----------
+    ops : Operators
+        The domain's operator bundle.
+    cache : mutable mapping
+        The domain's cache of what is derived from it (orderings and the
+        Laplacian's factor, shared by the domain's solvers).
+    settings : SolverSettings
+        ``backend`` and ``intent`` decide the backends.
+    timings : dict
+        Where the seconds of each factorization are recorded.
+
+    Attributes
+    ----------
+    heat_backend, poisson_backend : str
+        The backends the heat matrix and the Laplacian are factored with.
+    built : bool
+        Whether both factorizations are there.
+
+    Examples
+    --------
+    >>> import heatcore as hc
+    >>> solver = hc.HeatSolver(hc.TriangleMesh(*hc.io.load_demo_mesh()), accuracy="high")
+    >>> solver.factors.built == (not hc.high_accuracy.high_accuracy_needs_heat())  # numba: deferred
+    False
+    >>> _ = solver.poisson  # a first use builds them
+    >>> solver.factors.built
+    True
+    """
+
+    def __init__(self, ops, cache, settings, timings):
+        self.ops = ops
+        self._cache = cache
+        self._laplacian = ops.laplacian.tocsr()
+        n = ops.n_vertices
+        self.heat_backend = _resolve_backend(settings.backend, n, intent=settings.intent, stage="factor")
+        self.poisson_backend = _resolve_backend(settings.backend, n, intent=settings.intent, stage="solve")
+        self.timings = timings
+        self._heat_flow = self._poisson = None
+        self._deferred = None
+
+    @property
+    def built(self):
+        """Whether the heat flow and the Poisson factor are built."""
+        return self._heat_flow is not None and self._poisson is not None
+
+    def start(self):
+        """On large meshes: start the Laplacian's nested dissection, which runs while the heat matrix is factored."""
+        backend = self.poisson_backend
+        if ("poisson", backend) not in self._cache and ("nested", backend) not in self._cache:
+            self._cache["nested", backend] = start_nested_dissection(self._laplacian, backend)
+
+    def defer(self, heat, progress):
+        """Build on first need (:meth:`heat_flow` or :meth:`poisson`), with these :meth:`build` arguments."""
+        self._deferred = (heat, progress)
+
+    def build(self, heat, progress):
+        """Factor the heat matrix and the Laplacian (the latter taken from the domain's cache where it is there).
+
+        Parameters
+        ----------
+        heat : HeatStep
+            The time step, boundary condition and components of the solver.
+        progress : Progress
+        """
+        self._deferred = None
+        start = time.perf_counter()
+        self._heat_flow = self._factor_heat(heat, progress.part(0.05, 0.7))
+        self.timings["heat factorization"] = time.perf_counter() - start
+        start = time.perf_counter()
+        progress(0.7, "factoring the Poisson matrix")
+        backend = self.poisson_backend
+        if ("poisson", backend) not in self._cache:
+            K = grounded(self._laplacian, heat.ground)
+            self._cache["poisson", backend] = factor(K, backend, ordering=self._laplacian_ordering(backend))
+        self._poisson = PinnedPoisson(self._laplacian, self._cache["poisson", backend], heat.ground, heat.component,
+                                      heat.n_components, self.factor_free)
+        self.timings["poisson factorization"] = time.perf_counter() - start
+        for ordering in self._cache.values():
+            if isinstance(ordering, Ordering):
+                ordering.forget_pattern()  # its memory matters more than re-converting for another m
+
+    def heat_flow(self):
+        """Step 1, :class:`~heatcore.steps.heat_flow.HeatFlow` (built here where it was deferred)."""
+        self._build_deferred()
+        return self._heat_flow
+
+    def poisson(self):
+        """Step 3, :class:`~heatcore.steps.poisson.PinnedPoisson` (built here where it was deferred)."""
+        self._build_deferred()
+        return self._poisson
+
+    def _build_deferred(self):
+        if self._deferred is not None:
+            heat, progress = self._deferred
+            self.start()
+            self.build(heat, Progress(progress))
+
+    def _factor_heat(self, heat, progress):
+        """Factor ``M + t L`` for the boundary condition (Neumann, interior-only Dirichlet, or both)."""
+        ops, step, backend = self.ops, heat.time_step, self.heat_backend
+        heat_matrix = (sp.diags(ops.mass) + (step * ops.laplacian if np.ndim(step) == 0 else sp.diags(step) @ ops.laplacian)).tocsr()
+        dirichlet, interior = None, None
+        if heat.boundary in ("robin", "dirichlet"):
+            interior = np.flatnonzero(~ops.boundary)
+            if interior.size:
+                progress(0.0, "factoring the heat matrix (interior vertices, for the Dirichlet condition)")
+                ordering = restrict_ordering(self._ordering(backend), interior)
+                dirichlet = factor(heat_matrix[interior][:, interior], backend, ordering=ordering)
+        # Neumann: the condition itself, half of Robin, or the fallback where Dirichlet sees no heat.
+        progress(0.0 if dirichlet is None else 0.5, "factoring the heat matrix")
+        neumann = factor(heat_matrix, backend, ordering=self._ordering(backend))
+        return HeatFlow(neumann, dirichlet, interior, heat.boundary, heat.component, heat.n_components,
+                        BoundarySourceHeat(ops, self._laplacian, step, neumann))
+
+    def _ordering(self, backend):
+        """The fill-reducing ordering ``backend`` uses on the domain's matrices (kept in the domain's cache)."""
+        if ("ordering", backend) not in self._cache:
+            self._cache["ordering", backend] = fill_reducing_ordering(self._laplacian, backend)
+        return self._cache["ordering", backend]
+
+    def _laplacian_ordering(self, backend):
+        """The best ordering at hand for the Laplacian: nested dissection where it was started, else the quick one."""
+        nested = self._cache.get(("nested", backend))
+        if isinstance(nested, Future):
+            try:
+                nested = self._ordering(backend).reordered(nested.result())
+            except SolverError as exc:  # pragma: no cover - METIS ran out of memory, say
+                log.warning("%s; using the minimum degree ordering", exc)
+                nested = None
+            self._cache["nested", backend] = nested
+        return nested or self._ordering(backend)
+
+    def factor_free(self, free):
+        """Factor of the Laplacian on the ``free`` vertices (a pinned system of many pins), ordered as the Laplacian."""
+        ordering = restrict_ordering(self._laplacian_ordering(self.heat_backend), free)
+        return factor(self._laplacian[free][:, free], self.heat_backend, ordering=ordering)
