@@ -9,7 +9,8 @@ Examples
 >>> d1, d2 = solver.distance([0]), solver.distance([5, 9])
 """
 
-from . import io, linalg, options
+from . import io, linalg, options, settings
+from .contours import Isoline, isolines
 from .domains.base import Domain
 from .domains.operators import Operators
 from .domains.pointcloud import PointCloud
@@ -25,9 +26,9 @@ from .errors import (
     SolverError,
     UnsupportedDomainError,
 )
-from .contours import Isoline, isolines
 from .heat import HeatSolver
 from .paths import GeodesicPath
+from .settings import MeshSettings, OutputSettings, Settings, SolverSettings
 from .vector_heat import VectorHeatSolver
 
 __version__ = "0.1.0"
@@ -42,10 +43,14 @@ __all__ = [
     "InvalidOptionError",
     "InvalidSourceError",
     "Isoline",
+    "MeshSettings",
     "Operators",
+    "OutputSettings",
     "PointCloud",
     "PolygonMesh",
+    "Settings",
     "SolverError",
+    "SolverSettings",
     "TetMesh",
     "TriangleMesh",
     "UnsupportedDomainError",
@@ -55,6 +60,7 @@ __all__ = [
     "isolines",
     "linalg",
     "options",
+    "settings",
 ]
 
 
@@ -72,6 +78,7 @@ def geodesic_distance(
     refine="auto",
     accuracy="smooth",
     weld=0.0,
+    backend="auto",
     face_points=None,
     faces=None,
 ):
@@ -111,6 +118,9 @@ def geodesic_distance(
         In mesh units; merge vertices closer than this tolerance (mesh units) into one before
         solving, as STL files and OBJ seams need; 0 merges vertices at exactly the same position;
         distances are still given for every input vertex. None: no welding.
+    backend : {"auto", "supernodal", "qdldl", "cholmod", "superlu", "gpu"}, default "auto"
+        Sparse factorization backend: auto picks by size (see heatcore.linalg); here, for one
+        query, the backend that factors fastest.
     face_points, faces : optional
         Deprecated names of ``points`` and ``region`` (DeprecationWarning).
 
@@ -134,16 +144,12 @@ def geodesic_distance(
     True
     """
     from .domains.sources import source_keywords
-    from .linalg import one_query_backend
-    from .options import check_all
 
-    opts = check_all({"m": m, "boundary": boundary, "accuracy": accuracy, "robust": robust, "refine": refine,
-                      "weld": weld})
+    chosen = Settings.of("api", intent="one query", m=m, boundary=boundary, accuracy=accuracy, backend=backend,
+                         robust=robust, refine=refine, weld=weld)
     kinds = {"points": points, "edges": edges, "region": region, "face_points": face_points, "faces": faces}
     kinds = source_keywords({k: v for k, v in kinds.items() if v is not None or k in ("points", "edges", "region")},
                             stacklevel=3)
-    mesh = TriangleMesh(V, F, robust=opts["robust"], refine=opts["refine"], weld=opts["weld"])
-    # One query: the backend that factors fastest, not the one that solves fastest.
-    solver = HeatSolver(mesh, m=opts["m"], boundary=opts["boundary"], accuracy=opts["accuracy"],
-                        backend=one_query_backend("auto", mesh.operators.n_vertices))
+    mesh = TriangleMesh(V, F, **chosen.mesh.keywords())
+    solver = HeatSolver(mesh, chosen.solver)
     return solver.distance(sources, **kinds)
