@@ -98,9 +98,9 @@ def test_weld_options_reach_the_mesh(sphere_stl, monkeypatch, tmp_path, capsys):
     seen = []
     real = hc.TriangleMesh.__init__
 
-    def spy(self, V, F, **kwargs):
-        seen.append(kwargs["weld"])
-        real(self, V, F, **kwargs)
+    def spy(self, V, F, weld=0.0, **kwargs):  # the mesh's default when the command leaves weld at its default
+        seen.append(weld)
+        real(self, V, F, weld=weld, **kwargs)
 
     monkeypatch.setattr(hc.TriangleMesh, "__init__", spy)
     for flags in ([], ["--weld-tolerance", "0.25"], ["--no-weld"]):
@@ -120,14 +120,17 @@ def test_bad_weld_options_are_usage_errors(argv, message, sphere_stl, tmp_path, 
     assert err == f"heatcore distance: error: {message} (see 'heatcore distance --help')\n"
 
 
-def test_other_domains_ignore_the_weld_options(tmp_path, capsys):
+def test_other_domains_refuse_the_weld_options(tmp_path, capsys):
     V, _ = icosphere()
     path = tmp_path / "cloud.xyz"
     np.savetxt(path, V)
     out = tmp_path / "d.npy"
-    code, _, err = run(["distance", path, "-s", 0, "-o", out, "-q", "--weld-tolerance", "0.5"], capsys)
+    code, _, err = run(["distance", path, "-s", 0, "-o", out, "-q"], capsys)  # the default passes
     assert code == 0, err
     assert np.isfinite(np.load(out)).all() and len(np.load(out)) == len(V)
+    for flag in (["--weld-tolerance", "0.5"], ["--no-weld"]):  # set, it is refused (issue 33: once dropped)
+        code, _, err = run(["distance", path, "-s", 0, "-o", out, "-q", *flag], capsys)
+        assert code != 0 and "a point cloud does not take the option weld" in err
 
 
 def test_batch_welds_stl_files_too(sphere_stl, tmp_path, capsys):

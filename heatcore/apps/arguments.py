@@ -11,7 +11,7 @@ Examples
 >>> p = _Parser(prog="demo")
 >>> add_solver_options(p)
 >>> solver_keywords(p.parse_args(["--m", "2", "--no-weld"]))
-{'mesh': {'robust': True, 'refine': 'auto', 'weld': None}, 'solver': {'m': 2.0, 'boundary': 'robin', 'accuracy': 'smooth', 'backend': 'auto'}}
+{'mesh': {'weld': None}, 'solver': {'m': 2.0, 'boundary': 'robin', 'accuracy': 'smooth', 'backend': 'auto'}}
 """
 
 import argparse
@@ -63,7 +63,11 @@ def solver_keywords(args):
     """``{"mesh": {...}, "solver": {...}}``: the parsed solver options by where they go.
 
     Each option goes to its declared ``target`` in :mod:`heatcore.options`:
-    the domain (``mesh``) or :class:`~heatcore.HeatSolver` (``solver``).
+    the domain (``mesh``) or :class:`~heatcore.HeatSolver` (``solver``). The
+    mesh part holds only the options set to something other than their
+    default (the domains' own defaults are the same), so that a domain refuses
+    an option it does not take only when the user set it
+    (:meth:`heatcore.io.domain.DomainFile.domain`).
 
     Parameters
     ----------
@@ -84,7 +88,9 @@ def solver_keywords(args):
     """
     kw = {"mesh": {}, "solver": {}}
     for name in SOLVER_OPTIONS:
-        kw[options.OPTIONS[name].target][name] = getattr(args, name)
+        opt, value = options.OPTIONS[name], getattr(args, name)
+        if opt.target == "solver" or value != opt.default:
+            kw[opt.target][name] = value
     return kw
 
 

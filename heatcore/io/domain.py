@@ -20,13 +20,15 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InvalidMeshError, NoFacesError
+from ..errors import InvalidMeshError, InvalidOptionError, NoFacesError
 from ..options import OPTIONS, check
 
 #: How a file may be read (the ``domain`` option of :mod:`heatcore.options`).
 DOMAIN_KINDS = OPTIONS["domain"].choices
 VOLUME_SUFFIXES = {".msh", ".vtu", ".vtk", ".mesh", ".node", ".ele"}
 POINT_SUFFIXES = {".xyz", ".pts", ".txt"}
+#: The mesh options (:func:`heatcore.options.names` ``("mesh")``) each domain kind's constructor takes.
+DOMAIN_OPTIONS = {"triangle": ("robust", "refine", "weld"), "polygon": ("refine",), "tet": (), "points": ("refine",)}
 
 
 @dataclass
@@ -65,31 +67,72 @@ class DomainFile:
         """Vertices selected in the file (MeshLab PLY flags)."""
         return self.selection
 
-    def domain(self, robust=True, refine="auto", weld=0.0, progress=None):
-        """Build the domain; ``robust``, ``refine`` and ``weld`` apply where the domain has them.
+    def domain(self, progress=None, **options):
+        """Build the domain, with the mesh options its user set.
 
-        ``weld`` (a tolerance, 0 for exactly coincident vertices, None for no
-        welding) is a :class:`~heatcore.TriangleMesh` option; the domain reports
-        distances at every vertex of the file either way. ``progress`` (a
-        :mod:`heatcore.progress` callback) hears a triangle mesh's build stages.
+        Parameters
+        ----------
+        progress : callable, optional
+            A :mod:`heatcore.progress` callback; a triangle mesh reports its
+            build stages to it (the other kinds build in one step).
+        **options
+            Mesh options (``robust``, ``refine``, ``weld``; see
+            :mod:`heatcore.options`) the user set. Each must be one the kind of
+            domain takes (:data:`DOMAIN_OPTIONS`); those left out take the
+            domain's defaults, which are the options' defaults. A front end
+            that holds every option passes only those set, or changed from
+            their default.
+
+        Raises
+        ------
+        InvalidOptionError
+            An option the kind of domain does not take (``refine`` for a tet
+            mesh, ``weld`` for a polygon mesh, ...): it would otherwise be dropped.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> f = DomainFile("points", np.eye(3), None, None)
+        >>> type(f.domain(refine=0)).__name__
+        'PointCloud'
+        >>> f.domain(weld=0.5)
+        Traceback (most recent call last):
+        ...
+        heatcore.errors.InvalidOptionError: a point cloud does not take the option weld (it takes refine)
         """
+        cls = _domain_class(self.kind)
+        refused = [name for name in options if name not in DOMAIN_OPTIONS[self.kind]]
+        if refused:
+            s = "s" if len(refused) > 1 else ""
+            takes = ", ".join(DOMAIN_OPTIONS[self.kind]) or "no mesh option"
+            raise InvalidOptionError(f"a {cls.domain_name} does not take the option{s} {', '.join(refused)} "
+                                     f"(it takes {takes})")
         if self.kind == "triangle":
-            from ..domains.triangle import TriangleMesh
-
-            return TriangleMesh(self.vertices, self.cells, robust=robust, refine=refine, weld=weld, progress=progress)
-        if self.kind == "polygon":
-            from ..domains.polygon import PolygonMesh
-
-            return PolygonMesh(self.vertices, self.cells)
+            return cls(self.vertices, self.cells, progress=progress, **options)
+        mesh = cls(self.vertices, self.cells, **options)
         if self.kind == "tet":
-            from ..domains.tet import TetMesh
-
-            mesh = TetMesh(self.vertices, self.cells)
             self.surface = mesh.boundary_faces
-            return mesh
-        from ..domains.pointcloud import PointCloud
+        return mesh
 
-        return PointCloud(self.vertices, self.cells, refine=refine)
+
+
+def _domain_class(kind):
+    """The domain class that a file of ``kind`` becomes (imported on use: domains sit above io)."""
+    if kind == "triangle":
+        from ..domains.triangle import TriangleMesh
+
+        return TriangleMesh
+    if kind == "polygon":
+        from ..domains.polygon import PolygonMesh
+
+        return PolygonMesh
+    if kind == "tet":
+        from ..domains.tet import TetMesh
+
+        return TetMesh
+    from ..domains.pointcloud import PointCloud
+
+    return PointCloud
 
 
 def read_domain(path, kind="auto"):

@@ -2,8 +2,8 @@
 
 A key (:func:`result_key`) is canonical JSON of the SHA-256 of the mesh file's
 bytes, the sources (with the bytes of a per-mesh sources file), the domain
-kind, every mesh and solver option (defaults filled in from the signatures, so
-a new option is keyed without a change here), the heatcore version and the key
+kind, every mesh and solver option (defaults filled in from the options table
+and the solver's signature, so a new option is keyed without a change here), the heatcore version and the key
 format. Two runs share a result only when their keys are equal.
 
 Examples
@@ -60,9 +60,9 @@ def sources_file_path(mesh_path, suffix):
 
 
 def option_defaults():
-    """Defaults of the mesh options (``DomainFile.domain``) and of :class:`~heatcore.HeatSolver`.
+    """Defaults of the mesh options (:func:`heatcore.options.defaults`) and of :class:`~heatcore.HeatSolver`.
 
-    Read from the signatures, so an option added there is part of every key.
+    Read from the options table and the solver's signature, so an option added there is part of every key.
 
     Examples
     --------
@@ -73,13 +73,13 @@ def option_defaults():
     import inspect
 
     from ...heat import HeatSolver
-    from ...io.domain import DomainFile
+    from ...options import defaults as option_table
 
     def defaults(func):
         return {name: p.default for name, p in inspect.signature(func).parameters.items()
                 if p.default is not inspect.Parameter.empty}
 
-    return defaults(DomainFile.domain), defaults(HeatSolver.__init__)
+    return option_table("mesh"), defaults(HeatSolver.__init__)
 
 
 def _plain(value):
