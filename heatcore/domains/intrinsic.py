@@ -303,8 +303,17 @@ class IntrinsicTriangulation:
         Lf[f1] = np.stack([l_il, l_kl, l_ki], axis=1)
 
 
-def halfedge_twins(F, side_edge=None):
-    """Twin of each half-edge (``-1`` on boundary, non-manifold or misoriented edges).
+def halfedge_twins(F, side_edge=None, oriented=True):
+    """Twin of each half-edge: the other half-edge of its edge, or ``-1``.
+
+    The rule: two half-edges are twins when they are the only two on their
+    edge (the same two vertices). An edge of one face (a boundary edge) or of
+    three faces or more (a non-manifold edge) has no twins; nor does a loop
+    (a face with a repeated vertex). With ``oriented`` (an intrinsic
+    triangulation, whose flips need a consistent orientation) the two must also
+    run in opposite directions, so an edge where two faces disagree on the
+    orientation has none either; without it (crossing from face to face, as
+    geodesic paths do) they are paired whatever their directions.
 
     Parameters
     ----------
@@ -312,18 +321,23 @@ def halfedge_twins(F, side_edge=None):
     side_edge : (m, 3) int array, optional
         Undirected edge id of each half-edge (as from
         :func:`heatcore.domains.refine.unique_edges`); computed when not given.
+    oriented : bool, default True
+        Pair only half-edges of opposite directions.
 
     Returns
     -------
     (3 m,) int array
+        Half-edge ``3 f + c`` is face ``f``'s side opposite corner ``c``
+        (from corner ``c + 1`` to corner ``c + 2``).
 
     Examples
     --------
     >>> halfedge_twins(np.array([[0, 1, 2], [0, 2, 3]])).tolist()   # edge 0-2: half-edges 1 and 5
     [-1, 5, -1, -1, -1, 1]
+    >>> flipped = np.array([[0, 1, 2], [0, 3, 2]])  # the second face turned over: edge 0-2 runs 0->2 twice
+    >>> halfedge_twins(flipped).tolist(), halfedge_twins(flipped, oriented=False).tolist()
+    ([-1, -1, -1, -1, -1, -1], [-1, 4, -1, -1, 1, -1])
     """
-    tail = F[:, NEXT].ravel()
-    head = F[:, PREV].ravel()
     if side_edge is None:
         side_edge = unique_edges(F)[1]
     key = side_edge.ravel()
@@ -336,10 +350,12 @@ def halfedge_twins(F, side_edge=None):
     np.maximum.at(last, key, halfedges)
     paired = np.bincount(key, minlength=n_edges) == 2
     a, b = first[paired], last[paired]
-    # Both join the same two vertices; twins run in opposite directions (a loop has none).
+    tail = F[:, NEXT].ravel()
+    head = F[:, PREV].ravel()
     forward = tail < head
-    opposite = forward[a] != forward[b]
-    a, b = a[opposite], b[opposite]
+    # Both join the same two vertices (a loop joins one: neither runs forward).
+    keep = forward[a] != forward[b] if oriented else (tail[a] != head[a])
+    a, b = a[keep], b[keep]
     twin = np.full(key.size, -1, dtype=np.int64)
     twin[a] = b
     twin[b] = a
