@@ -123,6 +123,33 @@ class OptionGroup:
     def __setattr__(self, name, value):
         raise AttributeError(f"{type(self).__name__} is frozen: use replace({name}=...)")
 
+    @classmethod
+    def of(cls, settings=None, **options):
+        """``settings`` (a group of this class, or a whole :class:`Settings`) with ``options`` applied and checked.
+
+        How the domains and the solver take their options: a front end hands
+        over its checked part of :class:`Settings`, a caller of the Python API
+        gives keywords (``settings`` None), which are checked here, once.
+
+        Examples
+        --------
+        >>> SolverSettings.of(m=2).m, SolverSettings.of(Settings.of("cli", m=3), boundary="neumann").m
+        (2.0, 3.0)
+        >>> MeshSettings.of(Settings.of("blender")).weld is None
+        True
+        >>> SolverSettings.of({"m": 2})
+        Traceback (most recent call last):
+        ...
+        heatcore.errors.InvalidOptionError: settings must be SolverSettings or Settings, not dict
+        """
+        if settings is None:
+            return cls(**options)
+        if isinstance(settings, Settings):
+            settings = getattr(settings, cls.target)
+        if type(settings) is not cls:
+            raise InvalidOptionError(f"settings must be {cls.__name__} or Settings, not {type(settings).__name__}")
+        return settings.replace(**options) if options else settings
+
     def keywords(self):
         """``{name: value}`` of every option of the group."""
         return dict(self._values)
@@ -160,6 +187,23 @@ class MeshSettings(OptionGroup):
     """
 
     target = "mesh"
+
+    def refuse_untaken(self, taken, domain_name):
+        """Raise where an option was given that a domain (which takes only ``taken``) would ignore.
+
+        Examples
+        --------
+        >>> MeshSettings(refine=0).refuse_untaken(("refine",), "point cloud")
+        >>> MeshSettings(weld=0.5).refuse_untaken(("refine",), "point cloud")
+        Traceback (most recent call last):
+        ...
+        heatcore.errors.InvalidOptionError: a point cloud does not take the option weld (it takes refine)
+        """
+        refused = sorted(self.given.difference(taken))
+        if refused:
+            takes = ", ".join(taken) or "no mesh option"
+            raise InvalidOptionError(f"a {domain_name} does not take the option{'s' if len(refused) > 1 else ''} "
+                                     f"{', '.join(refused)} (it takes {takes})")
 
 
 class OutputSettings(OptionGroup):
@@ -204,28 +248,6 @@ class SolverSettings(OptionGroup):
 
     def _extra(self):
         return {"intent": self.intent}
-
-    @classmethod
-    def of(cls, settings=None, **options):
-        """``settings`` (a :class:`SolverSettings`, or the ``solver`` part of :class:`Settings`) with ``options`` applied.
-
-        Examples
-        --------
-        >>> SolverSettings.of(m=2).m, SolverSettings.of(Settings.of("cli", m=3), boundary="neumann").m
-        (2.0, 3.0)
-        >>> SolverSettings.of({"m": 2})
-        Traceback (most recent call last):
-        ...
-        heatcore.errors.InvalidOptionError: settings must be SolverSettings or Settings, not dict
-        """
-        if settings is None:
-            return cls(**options)
-        if isinstance(settings, Settings):
-            settings = settings.solver
-        if not isinstance(settings, SolverSettings):
-            raise InvalidOptionError(f"settings must be SolverSettings or Settings, not {type(settings).__name__}")
-        return settings.replace(**options) if options else settings
-
 
 @dataclass(frozen=True)
 class Settings:

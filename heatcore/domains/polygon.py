@@ -48,8 +48,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import HeatcoreWarning, InvalidMeshError, InvalidSourceError
-from ..options import check
+from ..settings import MeshSettings
 from .base import MeshDomain
+from .cotan import triangle_operators
 from .intrinsic import IntrinsicTriangulation, face_edge_lengths, mollify
 from .operators import Operators
 from .parts import part_extremes, part_means, vertex_components
@@ -63,10 +64,13 @@ from .polygon_refine import (  # noqa: F401 (area_minimizer_weights: public here
     vertices_inside,
 )
 from .polygon_shape import fan_triangulate, simple_polygons  # noqa: F401 (fan_triangulate: public here too)
-from .polygon_triangulate import straight_chords, triangulate_where_needed, triangulate_polygons  # noqa: F401
+from .polygon_triangulate import (  # noqa: F401
+    straight_chords,
+    triangulate_polygons,
+    triangulate_where_needed,
+)
 from .refine import unique_edges
 from .sources import edge_list, index_list
-from .cotan import triangle_operators
 from .validate import vertex_array
 
 
@@ -214,6 +218,11 @@ class PolygonMesh(MeshDomain):
         fine; unreferenced vertices get ``inf``. Concave polygons, those
         with a nearly straight corner (what Blender's Dissolve Edges leaves)
         and thin ones are triangulated (``n_triangulated``; docs/polygon.md).
+    settings : MeshSettings or Settings, optional
+        The mesh options, checked (:mod:`heatcore.settings`), as front ends
+        hand them over; the keyword options below (checked here) change them.
+        An option this domain does not take (:attr:`mesh_options`), given
+        explicitly, is an :class:`~heatcore.InvalidOptionError`.
     refine : "auto" or int, default "auto"
         Levels of polygon-aware refinement before building the operators
         (:mod:`~heatcore.domains.polygon_refine`: each k-gon into k quads at
@@ -284,7 +293,12 @@ class PolygonMesh(MeshDomain):
     source_kinds = ("vertices", "edges", "region")
     unit_heat_once = True
 
-    def __init__(self, V, polygons, *, refine="auto", delaunay=False, split_crossing=False):
+    #: The options of :class:`~heatcore.settings.MeshSettings` this domain takes.
+    mesh_options = ("refine",)
+
+    def __init__(self, V, polygons, settings=None, *, delaunay=False, split_crossing=False, **options):
+        settings = MeshSettings.of(settings, **options)
+        settings.refuse_untaken(self.mesh_options, self.domain_name)
         self.vertices = vertex_array(V)
         n = self.vertices.shape[0]
         offsets, indices = polygon_arrays(polygons, n)
@@ -294,7 +308,7 @@ class PolygonMesh(MeshDomain):
             raise InvalidMeshError("no polygon has three distinct corners: the mesh has no area")
         self.polygon_map = np.full(kept.size, -1, dtype=np.int64)
         self.polygon_map[kept] = np.arange(int(kept.sum()))
-        refine = check("refine", refine)
+        refine = settings.refine
         offsets, indices, origin = simple_polygons(
             self.vertices, self.offsets, self.indices, np.flatnonzero(kept), split_crossing
         )

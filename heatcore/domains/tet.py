@@ -40,9 +40,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import HeatcoreWarning, InvalidMeshError, InvalidSourceError
+from ..settings import MeshSettings
 from .base import MeshDomain
 from .sources import barycentric_array, index_list
-from .validate import clean_elements, index_array, vertex_array
 from .tet_geometry import (
     FLAT_TET_TOLERANCE,
     TET_EDGES,
@@ -51,6 +51,7 @@ from .tet_geometry import (
     tet_faces,
     tet_operators,
 )
+from .validate import clean_elements, index_array, vertex_array
 
 log = logging.getLogger("heatcore")
 
@@ -66,6 +67,11 @@ class TetMesh(MeshDomain):
         Tets (vertex indices), either orientation. See the module docstring
         for what is repaired: reoriented tets, dropped flat, duplicate and
         repeated-vertex tets; unreferenced vertices get ``inf``.
+    settings : MeshSettings or Settings, optional
+        The mesh options, checked (:mod:`heatcore.settings`), as front ends
+        hand them over; the keyword options below (checked here) change them.
+        An option this domain does not take (:attr:`mesh_options`), given
+        explicitly, is an :class:`~heatcore.InvalidOptionError`.
     pin_neighbors : bool, default True
         For a source vertex, also pin the vertices of its tets to their edge
         length from it, which is their exact distance (the edge lies in the
@@ -118,7 +124,11 @@ class TetMesh(MeshDomain):
     domain_name = "tet mesh"
     source_kinds = ("vertices", "points", "region")
 
-    def __init__(self, V, T, *, pin_neighbors=True):
+    #: The options of :class:`~heatcore.settings.MeshSettings` this domain takes: none.
+    mesh_options = ()
+
+    def __init__(self, V, T, settings=None, *, pin_neighbors=True, **options):
+        MeshSettings.of(settings, **options).refuse_untaken(self.mesh_options, self.domain_name)
         self.pin_neighbors = bool(pin_neighbors)
         self.vertices = vertex_array(V)
         if np.asarray(V).shape[1] != 3:

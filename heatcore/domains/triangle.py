@@ -23,8 +23,8 @@ from ..errors import (
     InvalidMeshError,
     InvalidSourceError,
 )
-from ..options import check
 from ..progress import Progress
+from ..settings import MeshSettings
 from .base import MeshDomain
 from .cotan import intrinsic_operators
 from .intrinsic import face_edge_lengths
@@ -38,7 +38,7 @@ from .refine import (
 )
 from .sources import barycentric_array, edge_list, index_list
 from .validate import clean_elements, mesh_arrays
-from .weld import weld_map, weld_tolerance
+from .weld import weld_map
 
 #: Smallest triangle slack ``l_a + l_b - l_c`` (relative to the part's mean
 #: edge length) the operators may keep. A part whose triangles are still
@@ -60,6 +60,9 @@ class TriangleMesh(MeshDomain):
     F : (m, 3) array_like of int
         Triangles (vertex indices). Faces with repeated vertices and duplicate
         faces are ignored with a warning; unreferenced vertices get ``inf``.
+    settings : MeshSettings or Settings, optional
+        The mesh options, checked (:mod:`heatcore.settings`), as front ends
+        hand them over; the keywords below (checked here) change them.
     robust : bool, default True
         Build the operators on the intrinsic Delaunay triangulation of the
         mollified mesh (accurate on badly shaped triangles, tolerant of
@@ -133,11 +136,14 @@ class TriangleMesh(MeshDomain):
     source_kinds = ("vertices", "edges", "region", "points")
     supports_high_accuracy = True
 
-    def __init__(self, V, F, *, robust=True, refine="auto", weld=0.0, progress=None):
+    #: The options of :class:`~heatcore.settings.MeshSettings` this domain takes.
+    mesh_options = ("robust", "refine", "weld")
+
+    def __init__(self, V, F, settings=None, *, progress=None, **options):
         self.vertices, self.faces = mesh_arrays(V, F)
-        refine = check("refine", refine)
-        tolerance = weld_tolerance(weld)
-        self.robust = check("robust", robust)
+        settings = MeshSettings.of(settings, **options)
+        settings.refuse_untaken(self.mesh_options, self.domain_name)
+        refine, tolerance, self.robust = settings.refine, settings.weld, settings.robust
         progress = Progress(progress)
         n = self.vertices.shape[0]
         progress(0.0, "welding coincident vertices" if tolerance is not None else "reading the triangles")

@@ -20,19 +20,6 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from ..options import check
-
-
-def weld_tolerance(weld):
-    """Validate the ``weld`` option: ``None`` or ``False`` (no welding) or a tolerance >= 0.
-
-    Examples
-    --------
-    >>> weld_tolerance(0), weld_tolerance(None), weld_tolerance(1e-6)
-    (0.0, None, 1e-06)
-    """
-    return None if weld is False else check("weld", weld)
-
 
 def weld_map(V, tolerance=0.0):
     """The vertex that stands for each vertex once coincident vertices are merged.

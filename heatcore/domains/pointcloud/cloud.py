@@ -3,10 +3,10 @@
 import numpy as np
 
 from ...errors import InvalidMeshError, InvalidOptionError, InvalidSourceError
+from ...settings import MeshSettings
+from ..base import Domain
 from ..cotan import intrinsic_operators
 from ..refine import auto_refine_levels, midpoint_subdivide
-from ...options import check
-from ..base import Domain
 from ..sources import index_list
 from ..validate import vertex_array
 from .local_delaunay import attach_left_out, local_delaunay_triangles
@@ -39,6 +39,11 @@ class PointCloud(Domain):
     k : int, default 30
         Neighborhood size (``MIN_K`` to ``MAX_K``); clamped to the number of
         distinct points minus one on smaller clouds.
+    settings : MeshSettings or Settings, optional
+        The mesh options, checked (:mod:`heatcore.settings`), as front ends
+        hand them over; the keyword options below (checked here) change them.
+        An option this domain does not take (:attr:`mesh_options`), given
+        explicitly, is an :class:`~heatcore.InvalidOptionError`.
     refine : "auto" or int, default "auto"
         Midpoint subdivision levels of the proposed triangles, as for
         :class:`~heatcore.TriangleMesh` ("auto" refines clouds of fewer than
@@ -87,7 +92,12 @@ class PointCloud(Domain):
     element_name = "triangle"
     domain_name = "point cloud"
 
-    def __init__(self, P, normals=None, *, k=None, refine="auto"):
+    #: The options of :class:`~heatcore.settings.MeshSettings` this domain takes.
+    mesh_options = ("refine",)
+
+    def __init__(self, P, normals=None, settings=None, *, k=None, **options):
+        settings = MeshSettings.of(settings, **options)
+        settings.refuse_untaken(self.mesh_options, self.domain_name)
         self.points = vertex_array(P, name="P")
         n_in = self.points.shape[0]
         self.point_map, self.distinct = merge_duplicates(self.points)
@@ -96,7 +106,7 @@ class PointCloud(Domain):
         if n < 3:
             raise InvalidMeshError(f"a point cloud needs at least 3 distinct points, got {n}")
         self.k = _neighborhood_size(k, n)
-        refine = check("refine", refine)
+        refine = settings.refine
 
         near, dist = nearest_neighbors(self.distinct, self.k, ratio=MAX_ATTACH_RATIO)
         nbr = within_ratio(near, dist, MAX_NEIGHBOR_RATIO)  # the neighbors of the normals and local triangles
