@@ -150,6 +150,6 @@ def geodesic_distance(
     kinds = {"points": points, "edges": edges, "region": region, "face_points": face_points, "faces": faces}
     kinds = source_keywords({k: v for k, v in kinds.items() if v is not None or k in ("points", "edges", "region")},
                             stacklevel=3)
-    mesh = TriangleMesh(V, F, **chosen.mesh.keywords())
+    mesh = TriangleMesh(V, F, chosen.mesh)
     solver = HeatSolver(mesh, chosen.solver)
     return solver.distance(sources, **kinds)
