@@ -140,7 +140,6 @@ class HeatSolver:
             log.info("mesh is %d edge hops across: time factor raised from m=%g to m=%.3g so that the heat stays "
                      "above double-precision underflow everywhere", self.hop_diameter, self.m, self.m_effective)
         ground = first_of_each(self.component, self.n_components)
-        self._ground = ground
         h = np.broadcast_to(ops.mean_edge_length, (n,))
         step = self.part_m[self.component] * h * h  # in each vertex's unit; constant on each component
         time_step = step[0] if (step == step[0]).all() else step
