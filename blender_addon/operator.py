@@ -193,6 +193,34 @@ class ModalRun:
         return {"CANCELLED"}
 
 
+def options_from_panel(operator, context, names):
+    """Give each option in ``names`` that the call left unset the panel's value (the scene's settings).
+
+    The operators' ``invoke``: from the UI an operator runs with what the panel
+    shows, while a script's call keeps the options it passes.
+
+    Parameters
+    ----------
+    operator : bpy.types.Operator
+    context : bpy.types.Context
+    names : iterable of str
+        Properties of both the operator and ``context.scene.heat_geodesic``.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> op = NS(properties=NS(is_property_set=lambda name: name == "m"), m=4.0, boundary="robin")
+    >>> context = NS(scene=NS(heat_geodesic=NS(m=1.0, boundary="neumann")))
+    >>> options_from_panel(op, context, ("m", "boundary"))
+    >>> op.m, op.boundary
+    (4.0, 'neumann')
+    """
+    panel = context.scene.heat_geodesic
+    for name in names:
+        if not operator.properties.is_property_set(name):
+            setattr(operator, name, getattr(panel, name))
+
+
 def poll_editable_mesh(cls, context):
     """``poll`` of the operators that write to the active mesh: a mesh, not linked from a library
     (in Edit Mode it is editable anyway); says why not in the tooltip (``poll_message_set``)."""
@@ -216,11 +244,7 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
     poll = classmethod(poll_editable_mesh)
 
     def invoke(self, context, event):
-        # From the UI, options not given explicitly come from the panel.
-        settings = context.scene.heat_geodesic
-        for name in GeodesicOptions.__annotations__:
-            if not self.properties.is_property_set(name):
-                setattr(self, name, getattr(settings, name))
+        options_from_panel(self, context, GeodesicOptions.__annotations__)
         if bpy.app.background or context.window is None:
             return self.execute(context)
         running = BackgroundBuild.running()

@@ -18,7 +18,7 @@ import bpy
 
 from ._heatcore import heatcore
 from .adapters import AddonError
-from .operator import poll_editable_mesh
+from .operator import options_from_panel, poll_editable_mesh
 from .path_api import geodesic_path
 from .properties import GeodesicOptions
 
@@ -36,11 +36,7 @@ class MESH_OT_heat_geodesic_path(GeodesicOptions, bpy.types.Operator):
     poll = classmethod(poll_editable_mesh)  # it may select edges
 
     def invoke(self, context, event):
-        # From the UI, options not given explicitly come from the panel.
-        settings = context.scene.heat_geodesic
-        for name in GeodesicOptions.__annotations__:
-            if not self.properties.is_property_set(name):
-                setattr(self, name, getattr(settings, name))
+        options_from_panel(self, context, GeodesicOptions.__annotations__)
         return self.execute(context)
 
     def draw(self, context):

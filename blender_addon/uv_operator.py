@@ -22,7 +22,7 @@ from mathutils import Vector
 
 from ._heatcore import heatcore
 from .adapters import AddonError
-from .operator import poll_editable_mesh
+from .operator import options_from_panel, poll_editable_mesh
 from .properties import SHAPE_ITEMS, SPACE_ITEMS, UVMapOptions, option_property, option_value
 from .uvmap import geodesic_uv_map
 
@@ -69,10 +69,7 @@ class MESH_OT_heat_geodesic_uv_map(UVMapOptions, bpy.types.Operator):
     poll = classmethod(poll_editable_mesh)
 
     def invoke(self, context, event):
-        settings = context.scene.heat_geodesic
-        for name in (*UVMapOptions.__annotations__, *SHARED):
-            if not self.properties.is_property_set(name):
-                setattr(self, name, getattr(settings, name))
+        options_from_panel(self, context, (*UVMapOptions.__annotations__, *SHARED))
         up = view_up(context)
         if up is not None and not self.properties.is_property_set("view_up"):
             self.view_up = up
