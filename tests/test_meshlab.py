@@ -23,9 +23,10 @@ def select(ms, vertices):
     ms.compute_selection_by_condition_per_vertex(condselect=cond)
 
 
-def reference(ms, vertices=None, faces=None, refine="auto", weld=0.0, **kw):
+def reference(ms, vertices=None, faces=None, refine="auto", weld=0.0, intent="one query", **kw):
     mesh = ms.current_mesh()
-    solver = hc.HeatSolver(hc.TriangleMesh(mesh.vertex_matrix(), mesh.face_matrix(), refine=refine, weld=weld), **kw)
+    solver = hc.HeatSolver(hc.TriangleMesh(mesh.vertex_matrix(), mesh.face_matrix(), refine=refine, weld=weld),
+                           intent=intent, **kw)  # the filter answers one query
     return solver.distance(vertices, region=faces)
 
 
@@ -221,7 +222,7 @@ def check_output(path, sources, isolines=0):
     _ms, mesh = reopen(path)
     V, F = load_shared_mesh("spot")
     np.testing.assert_array_equal(mesh.vertex_matrix(), V)
-    d = hc.HeatSolver(hc.TriangleMesh(V, F)).distance(sources)
+    d = hc.HeatSolver(hc.TriangleMesh(V, F), intent="one query").distance(sources)  # the command: one query
     np.testing.assert_array_equal(mesh.vertex_scalar_array(), d)
     np.testing.assert_array_equal(colors_uint8(mesh), to_uint8(colorize(d, "viridis", isolines=isolines)))
     assert np.flatnonzero(mesh.vertex_selection_array()).tolist() == sorted(sources)

@@ -21,6 +21,7 @@ from heatcore.apps import cli, meshlab
 from heatcore.apps.outputs import PNG_ISOLINES
 from heatcore.errors import InvalidOptionError
 from heatcore.options import OPTIONS
+from heatcore.settings import FRONT_END_OPTIONS
 
 REPO = Path(__file__).resolve().parents[1]
 TRIANGLE = (np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float), np.array([[0, 1, 2]]))
@@ -174,22 +175,32 @@ def test_cli_routes_each_option_to_its_declared_target():
     assert all(OPTIONS[n].target == target for target, d in kw.items() for n in d)
 
 
+MESHLAB_OPTIONS = FRONT_END_OPTIONS["meshlab"]
+
+
 def test_meshlab_command_options_are_the_declared_ones():
     parser = meshlab.build_parser()
-    assert_parser_matches(parser, meshlab.SOLVER_OPTIONS, "meshlab")
+    assert_parser_matches(parser, [n for n in MESHLAB_OPTIONS if n != "colormap"], "meshlab")
     assert_parser_matches(parser, ["colormap"], "meshlab", extra_choices=meshlab.EXTRA_COLORMAPS)
-    assert_parser_matches(parser, ["isolines"], "meshlab")
+    assert set(actions_by_dest(parser)) & set(OPTIONS) == set(MESHLAB_OPTIONS)
+
+
+def test_meshlab_command_builds_one_settings_for_one_query():
+    args = meshlab.build_parser().parse_args(["x.ply", "--m", "3", "--backend", "superlu", "--no-weld"])
+    settings = meshlab.settings_of(args)
+    assert settings.front_end == "meshlab" and settings.solver.intent == "one query"
+    assert (settings.solver.m, settings.solver.backend, settings.mesh.weld) == (3.0, "superlu", None)
 
 
 def test_meshlab_filter_parameters_are_the_declared_ones():
     params = inspect.signature(meshlab.geodesic_distance_from_selection).parameters
     names = [n for n in params if n in OPTIONS]
-    assert set(names) == {"m", "boundary", "accuracy", "robust", "refine", "weld", "colormap", "isolines"}
+    assert set(names) == set(MESHLAB_OPTIONS)
     for name in names:
         assert params[name].default == OPTIONS[name].default_for("meshlab"), name
 
 
-@pytest.mark.parametrize("name", ["m", "boundary", "accuracy", "robust", "refine", "weld", "colormap", "isolines"])
+@pytest.mark.parametrize("name", MESHLAB_OPTIONS)
 def test_meshlab_filter_checks_through_options(name):
     pymeshlab = pytest.importorskip("pymeshlab")
     ms = pymeshlab.MeshSet()

@@ -13,8 +13,10 @@ The filter (:mod:`heatcore.apps.meshlab_filter`, re-exported here) reads the
 selection as sources, writes the distance as vertex quality (what MeshLab's
 colour and selection tools use) and as a custom vertex scalar attribute,
 colours the vertices, and returns statistics. No numerics live here: the
-distance comes from :class:`heatcore.HeatSolver`. The command's solver and
-colour options are generated from :mod:`heatcore.options`.
+distance comes from :class:`heatcore.HeatSolver`. The command offers the
+options of ``FRONT_END_OPTIONS["meshlab"]`` (:mod:`heatcore.settings`), each
+generated from its declaration in :mod:`heatcore.options`, and turns them into
+one :class:`~heatcore.settings.Settings` built for one query (:func:`settings_of`).
 
 pymeshlab is imported inside functions only (see DESIGN.md: ``bpy`` must be
 imported before pymeshlab in a process).
@@ -42,19 +44,21 @@ import numpy as np
 
 from .. import options
 from ..errors import HeatcoreError, InvalidMeshError, InvalidOptionError, InvalidSourceError
+from ..settings import FRONT_END_OPTIONS, Settings
 from .meshlab_filter import (  # noqa: F401 - re-exported: the filter's public names
     COLORMAP_CHOICES,
     DEFAULT_ATTRIBUTE,
     DEFAULT_UNREACHABLE,
     EXTRA_COLORMAPS,
     MESHLAB_COLORMAPS,
-    _current_mesh,
-    _write_vertex_attribute,
+    current_mesh,
+    distance_from_selection,
     geodesic_distance_from_selection,
+    write_vertex_attribute,
 )
 
-#: Options of :mod:`heatcore.options` on this command line (besides ``colormap`` and ``isolines``).
-SOLVER_OPTIONS = ("m", "boundary", "accuracy", "robust", "refine", "weld")
+#: Options of :mod:`heatcore.options` on this command line: those the MeshLab front end offers.
+OPTION_NAMES = FRONT_END_OPTIONS["meshlab"]
 
 
 def build_parser(prog=None):
@@ -87,7 +91,7 @@ def build_parser(prog=None):
 def add_arguments(parser):
     """Add this command's arguments to an argparse parser (for a ``heatcore meshlab`` subcommand).
 
-    The solver and colour options come from :mod:`heatcore.options`
+    The options of :data:`OPTION_NAMES` come from :mod:`heatcore.options`
     (MeshLab's ramps and ``none`` added to the colormaps).
 
     Returns
@@ -113,11 +117,12 @@ def add_arguments(parser):
         "--select", metavar="CONDITION",
         help="MeshLab per-vertex condition selecting the sources, e.g. \"(y > 0.9)\" or \"vi == 0\"",
     )  # fmt: skip
-    for name in SOLVER_OPTIONS:
-        options.add_argument(parser, name, front_end="meshlab")
-    options.add_argument(parser, "colormap", front_end="meshlab", extra=EXTRA_COLORMAPS,
-                         note="also MeshLab's ramps (meshlab-*), or none (colours untouched)")
-    options.add_argument(parser, "isolines", front_end="meshlab")
+    for name in OPTION_NAMES:
+        if name == "colormap":
+            options.add_argument(parser, name, front_end="meshlab", extra=EXTRA_COLORMAPS,
+                                 note="also MeshLab's ramps (meshlab-*), or none (colours untouched)")
+        else:
+            options.add_argument(parser, name, front_end="meshlab")
     parser.add_argument(
         "--unreachable", type=float, default=DEFAULT_UNREACHABLE,
         help="quality of vertices no source reaches (default -1)",
@@ -132,7 +137,8 @@ def run(args):
 
     Loads the input with pymeshlab, selects the sources (``--sources``,
     ``--select``, or the file's saved selection), runs
-    :func:`geodesic_distance_from_selection` and writes the PLY atomically.
+    :func:`distance_from_selection` with the run's settings (:func:`settings_of`)
+    and writes the PLY atomically.
 
     Returns
     -------
@@ -177,7 +183,7 @@ def run(args):
         ms.load_new_mesh(str(path))
     except pymeshlab.PyMeshLabException as exc:
         raise InvalidMeshError(f"pymeshlab cannot read {path}: {exc}") from exc
-    mesh = _current_mesh(ms)
+    mesh = current_mesh(ms)
     if args.sources is not None:
         _select_vertices(ms, mesh, args.sources)
     elif args.select is not None:
@@ -188,13 +194,26 @@ def run(args):
         if not mesh.vertex_selection_array().any():
             raise InvalidSourceError(f"--select {args.select!r} selects no vertex")
 
-    solver_options = {name: getattr(args, name) for name in SOLVER_OPTIONS}
-    stats = geodesic_distance_from_selection(
-        ms, colormap=args.colormap, isolines=args.isolines, unreachable=args.unreachable, **solver_options
-    )
+    stats = distance_from_selection(ms, settings_of(args), colormap=args.colormap, unreachable=args.unreachable)
     _save_ply(ms, output, binary=not args.ascii)
     stats["output"] = str(output)
     return stats
+
+
+def settings_of(args):
+    """The run's :class:`~heatcore.settings.Settings` (MeshLab, one query) from parsed arguments.
+
+    The colormap stays with the command (MeshLab's ramps are not heatcore's
+    colormaps); every other option of :data:`OPTION_NAMES` goes in.
+
+    Examples
+    --------
+    >>> s = settings_of(build_parser().parse_args(["scan.ply", "--m", "2", "--backend", "superlu"]))
+    >>> s.solver.m, s.solver.backend, s.solver.intent, s.output.isolines
+    (2.0, 'superlu', 'one query', 0)
+    """
+    values = {name: getattr(args, name) for name in OPTION_NAMES if name != "colormap"}
+    return Settings.of("meshlab", intent="one query", **values)
 
 
 _CHECK_CONDITION = """
@@ -241,7 +260,7 @@ def _select_vertices(ms, mesh, indices):
     idx = options.check_source_vertices(indices, n)
     flags = np.zeros(n)
     flags[idx] = 1.0
-    _write_vertex_attribute(ms, mesh, "heatcore_sources", flags)
+    write_vertex_attribute(ms, mesh, "heatcore_sources", flags)
     ms.set_selection_none(allfaces=True, allverts=True)
     ms.compute_selection_by_condition_per_vertex(condselect="heatcore_sources > 0.5")
 

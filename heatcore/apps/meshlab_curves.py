@@ -129,8 +129,9 @@ def geodesic_path_layer(ms, source=None, target=None, name="geodesic path", set_
     set_as_current : bool
         Make the new layer current (default: the surface stays current).
     **solver_options
-        Keywords of :class:`~heatcore.TriangleMesh` and :class:`~heatcore.HeatSolver`
-        (``refine``, ``m``, ...).
+        Mesh and solver options of the MeshLab front end (``refine``, ``m``,
+        ``accuracy``, ``backend``, ...: ``FRONT_END_OPTIONS["meshlab"]``), made
+        one :class:`~heatcore.settings.Settings` (MeshLab's defaults).
 
     Returns
     -------
@@ -158,8 +159,9 @@ def geodesic_path_layer(ms, source=None, target=None, name="geodesic path", set_
     from ..domains.triangle import TriangleMesh
     from ..errors import InvalidSourceError
     from ..heat import HeatSolver
-    from ..options import defaults
+    from ..settings import Settings
 
+    settings = Settings.of("meshlab", **solver_options)
     mesh = ms.current_mesh()
     if (source is None) != (target is None):
         raise InvalidSourceError("give both the source and the target vertex, or neither (the two selected vertices)")
@@ -169,10 +171,7 @@ def geodesic_path_layer(ms, source=None, target=None, name="geodesic path", set_
             raise InvalidSourceError(f"select exactly two vertices (the lower index is the source): {len(selected)} "
                                      "are selected")
         source, target = (int(i) for i in selected)
-    mesh_keys = defaults("mesh")  # the TriangleMesh options; the others go to the solver
-    domain = TriangleMesh(mesh.vertex_matrix(), mesh.face_matrix(),
-                          **{k: v for k, v in solver_options.items() if k in mesh_keys})
-    solver = HeatSolver(domain, **{k: v for k, v in solver_options.items() if k not in mesh_keys})
+    solver = HeatSolver(TriangleMesh(mesh.vertex_matrix(), mesh.face_matrix(), settings.mesh), settings.solver)
     path = solver.geodesic_path(int(source), int(target))
     k = len(path.points)
     edges = np.column_stack([np.arange(k - 1), np.arange(1, k)]).astype(np.int32)

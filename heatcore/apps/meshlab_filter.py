@@ -3,9 +3,13 @@
 :func:`geodesic_distance_from_selection` reads the selection of the current
 mesh as sources, writes the distance as vertex quality and as a custom vertex
 scalar attribute, colours the vertices, and returns statistics. Its options
-are checked by :mod:`heatcore.options` (names, ranges, defaults and help as
-everywhere else); MeshLab's own colour ramps are this front end's addition.
-No numerics live here: the distance comes from :class:`heatcore.HeatSolver`.
+become one :class:`heatcore.settings.Settings` of the ``"meshlab"`` front end
+(checked once, with MeshLab's defaults; the options it offers are
+``FRONT_END_OPTIONS["meshlab"]``), built for one query: "auto" stands for the
+backend that factors fastest. :func:`distance_from_selection` takes those
+settings as they are (the command builds them from its arguments). MeshLab's
+own colour ramps are this front end's addition. No numerics live here: the
+distance comes from :class:`heatcore.HeatSolver`.
 The command line around it is :mod:`heatcore.apps.meshlab`.
 
 pymeshlab is imported by the caller only (see DESIGN.md: ``bpy`` must be
@@ -27,6 +31,7 @@ from .. import options
 from ..domains.triangle import TriangleMesh
 from ..errors import InvalidMeshError, InvalidOptionError, InvalidSourceError
 from ..heat import HeatSolver
+from ..settings import Settings
 from ..viz import colormap as _colormap
 
 #: Name of the custom per-vertex scalar attribute that receives the distance.
@@ -67,6 +72,7 @@ def geodesic_distance_from_selection(
     m=1.0,
     boundary="robin",
     accuracy="smooth",
+    backend="auto",
     robust=True,
     refine="auto",
     weld=0.0,
@@ -75,7 +81,6 @@ def geodesic_distance_from_selection(
     attribute=DEFAULT_ATTRIBUTE,
     unreachable=DEFAULT_UNREACHABLE,
     solver=None,
-    **solver_options,
 ):
     """Geodesic distance from the selection of a MeshSet's current mesh, MeshLab-filter style.
 
@@ -96,6 +101,9 @@ def geodesic_distance_from_selection(
         Boundary condition of the heat step on meshes with holes.
     accuracy : {"smooth", "high"}, default "smooth"
         "high": an eikonal pass, about 5 times closer to exact (see :class:`heatcore.HeatSolver`).
+    backend : {"auto", "supernodal", "qdldl", "cholmod", "superlu", "gpu"}, default "auto"
+        Sparse factorization backend; "auto": the one that factors fastest
+        (the filter answers one query; see :mod:`heatcore.linalg`).
     robust : bool, default True
         Intrinsic Delaunay operators (accurate on badly shaped triangles);
         ``False`` gives plain cotan, as MeshLab's own heat filter uses.
@@ -121,10 +129,6 @@ def geodesic_distance_from_selection(
     solver : HeatSolver, optional
         A solver from an earlier call's statistics (``stats["solver"]``) on
         the same mesh: skips the precomputation.
-    **solver_options
-        Further keyword arguments of :class:`heatcore.HeatSolver` (for
-        example ``backend``), checked by :mod:`heatcore.options` where
-        declared there.
 
     Returns
     -------
@@ -169,12 +173,49 @@ def geodesic_distance_from_selection(
     >>> again["solver"] is stats["solver"], np.array_equal(again["distance"], stats["distance"])
     (True, True)
     """
+    settings = Settings.of("meshlab", intent="one query", m=m, boundary=boundary, accuracy=accuracy,
+                           backend=backend, robust=robust, refine=refine, weld=weld, isolines=isolines)
+    return distance_from_selection(ms, settings, colormap=colormap, attribute=attribute,
+                                   unreachable=unreachable, solver=solver)
+
+
+def distance_from_selection(ms, settings, *, colormap="viridis", attribute=DEFAULT_ATTRIBUTE,
+                            unreachable=DEFAULT_UNREACHABLE, solver=None):
+    """:func:`geodesic_distance_from_selection` with its options as one :class:`~heatcore.settings.Settings`.
+
+    The mesh part builds the :class:`~heatcore.TriangleMesh`, the solver
+    part the :class:`~heatcore.HeatSolver`, the output part gives the
+    isolines; nothing is checked or defaulted again here. ``colormap``
+    (which may be one of MeshLab's ramps, or "none"), ``attribute`` and
+    ``unreachable`` are this front end's own, checked here.
+
+    Parameters
+    ----------
+    ms : pymeshlab.MeshSet
+    settings : Settings
+        ``Settings.of("meshlab", intent="one query", ...)``.
+    colormap, attribute, unreachable, solver
+        As in :func:`geodesic_distance_from_selection`.
+
+    Returns
+    -------
+    dict
+        As :func:`geodesic_distance_from_selection`.
+
+    Examples
+    --------
+    >>> import pytest
+    >>> pymeshlab = pytest.importorskip("pymeshlab")  # the test extra
+    >>> ms = pymeshlab.MeshSet()
+    >>> ms.add_mesh(pymeshlab.Mesh(np.eye(3), np.array([[0, 1, 2]], np.int32)))
+    >>> ms.compute_selection_by_condition_per_vertex(condselect="vi == 0")
+    >>> stats = distance_from_selection(ms, Settings.of("meshlab", intent="one query", refine=0))
+    >>> stats["reached"], stats["solver"].settings.intent
+    (3, 'one query')
+    """
     start = time.perf_counter()
-    mesh_kw = {"robust": robust, "refine": refine, "weld": weld}
-    solver_kw = {"m": m, "boundary": boundary, "accuracy": accuracy, **solver_options}
-    mesh_kw, solver_kw = options.check_all(mesh_kw), options.check_all(solver_kw)
-    colormap, isolines = _check_options(colormap, isolines, attribute, unreachable)
-    mesh = _current_mesh(ms)
+    colormap = _check_options(colormap, settings.output.isolines, attribute, unreachable)
+    mesh = current_mesh(ms)
     V = np.asarray(mesh.vertex_matrix(), dtype=np.float64)
     F = np.asarray(mesh.face_matrix(), dtype=np.int64)
     if F.shape[0] == 0:
@@ -182,7 +223,7 @@ def geodesic_distance_from_selection(
     kind, sources = _selected_sources(mesh)
 
     if solver is None:
-        solver = HeatSolver(TriangleMesh(V, F, **mesh_kw), **solver_kw)
+        solver = HeatSolver(TriangleMesh(V, F, settings.mesh), settings.solver)
     else:
         _check_solver(solver, V, F)
     setup = time.perf_counter()
@@ -194,10 +235,10 @@ def geodesic_distance_from_selection(
 
     finite = np.isfinite(d)
     values = np.where(finite, d, float(unreachable))
-    _write_vertex_attribute(ms, mesh, attribute, values)
+    write_vertex_attribute(ms, mesh, attribute, values)
     ms.compute_scalar_by_function_per_vertex(q=attribute)
     vmax = float(d[finite].max()) if finite.any() else 0.0
-    _write_colors(ms, mesh, d, colormap, isolines, vmax)
+    _write_colors(ms, mesh, d, colormap, settings.output.isolines, vmax)
     done = time.perf_counter()
 
     return {
@@ -225,9 +266,11 @@ def geodesic_distance_from_selection(
 
 
 def _check_options(colormap, isolines, attribute, unreachable):
-    """The checked ``(colormap, isolines)``; the filter's own options (attribute, unreachable) checked too."""
+    """The checked ``colormap`` (MeshLab's ramps too); the filter's own options (attribute, unreachable) checked.
+
+    ``isolines`` (of the checked settings) only has to fit the colormap.
+    """
     colormap = options.check("colormap", colormap, extra=EXTRA_COLORMAPS)
-    isolines = options.check("isolines", isolines)
     if isolines and colormap not in _colormap.COLORMAPS:
         raise InvalidOptionError(f"isolines need one of heatcore's colormaps {sorted(_colormap.COLORMAPS)}")
     if not (isinstance(attribute, str) and _IDENTIFIER.match(attribute)) or attribute in _RESERVED_NAMES:
@@ -239,10 +282,11 @@ def _check_options(colormap, isolines, attribute, unreachable):
         raise InvalidOptionError(f"attribute name {attribute!r} is used for the colours; choose another")
     if not (isinstance(unreachable, (int, float, np.integer, np.floating)) and np.isfinite(unreachable)):
         raise InvalidOptionError(f"unreachable must be a finite number (MeshLab cannot use inf), got {unreachable!r}")
-    return colormap, isolines
+    return colormap
 
 
-def _current_mesh(ms):
+def current_mesh(ms):
+    """The MeshSet's current mesh, compacted; :class:`~heatcore.errors.InvalidMeshError` when it has none."""
     try:
         mesh = ms.current_mesh()
     except Exception as exc:  # pymeshlab raises its own exception type for an empty MeshSet
@@ -304,7 +348,7 @@ def _attribute_exists(mesh, name):
     return True
 
 
-def _write_vertex_attribute(ms, mesh, name, values):
+def write_vertex_attribute(ms, mesh, name, values):
     """Set the custom vertex scalar attribute ``name`` to ``values`` (adding or overwriting it).
 
     pymeshlab can add an attribute but neither remove nor overwrite one from
@@ -335,6 +379,6 @@ def _write_colors(ms, mesh, d, colormap, isolines, vmax):
         return
     rgb = _colormap.to_uint8(_colormap.colorize(d, colormap=colormap, isolines=isolines))
     for name, channel in zip(_COLOR_ATTRIBUTES, rgb.T):
-        _write_vertex_attribute(ms, mesh, name, channel.astype(np.float64))
+        write_vertex_attribute(ms, mesh, name, channel.astype(np.float64))
     x, y, z = _COLOR_ATTRIBUTES
     ms.compute_color_by_function_per_vertex(x=x, y=y, z=z, a="255")
