@@ -9,7 +9,8 @@ and heatcore.
 Modules: ``adapters`` (bpy <-> arrays), ``cache`` (prefactored solvers),
 ``api`` (:func:`compute_geodesic_distance` for scripts), ``stages`` (a run's
 stages: prepare, build, finish), ``outputs`` (what a run writes),
-``background`` (the solver build in a worker thread), ``properties``,
+``background`` (the solver build in a worker thread), ``display`` (what
+shows while it runs), ``properties``,
 ``operator``, ``panel`` (the sidebar panel and its *Advanced* sub-panel),
 ``isoline_operator`` (the *Isoline Curves* operator), ``path_operator`` and ``path_api``
 (the *Geodesic Path* operator and :func:`geodesic_path`), ``uvmap`` (:func:`geodesic_uv_map`,

@@ -2,8 +2,9 @@
 
 From the button (``invoke`` with a window) a solver that is not cached is
 built in a background thread (:class:`~.background.BackgroundBuild`) while a
-modal timer shows its stages: the status bar and the 3D View header say what
-runs and how far it is, the window manager's progress indicator follows, the
+modal timer shows its stages (:class:`~.display.ProgressDisplay`): the header
+of the area it was started from says what runs and how far it is, the status
+bar that Esc cancels, the window manager's progress indicator follows, the
 UI stays usable, and Esc cancels (nothing is written). The query and the
 writes then run on the main thread, as one undo step. A second click while a
 build runs is refused with a message. A cached solver, ``execute`` (scripts,
@@ -22,11 +23,10 @@ from ._heatcore import heatcore
 from .adapters import AddonError
 from .api import compute_geodesic_distance
 from .background import CANCELLED, FAILED, RUNNING, BackgroundBuild, Busy
+from .display import TIMER_STEP, ProgressDisplay  # noqa: F401 (TIMER_STEP: probe_tool imports it from here)
 from .properties import GeodesicOptions
 from .stages import BUILD_RANGE, build_solver, check_unchanged, finish_run, prepare_run
 
-#: Seconds between two looks at a background build (the modal timer).
-TIMER_STEP = 0.1
 #: Errors reported as messages (anything else is a bug: it propagates, with its traceback).
 REPORTED_ERRORS = (AddonError, heatcore.HeatcoreError, MemoryError)
 
@@ -74,54 +74,6 @@ def report_result(context, result, report, obj, material=False):
     return {"FINISHED"}
 
 
-class BuildDisplay:
-    """What a background build shows while it runs, and takes down in :meth:`end` (idempotent).
-
-    The modal timer, the window manager's progress indicator, the status bar
-    text and the header text of the area the operator was started from.
-    Every call is guarded: an area or window closed meanwhile is skipped.
-    """
-
-    def __init__(self, context):
-        self.wm = context.window_manager
-        self.window = context.window
-        self.workspace = getattr(context, "workspace", None)
-        self.area = getattr(context, "area", None)
-        self.timer = self.wm.event_timer_add(TIMER_STEP, window=self.window)
-        self.wm.progress_begin(0, 100)
-        self.ended = False
-
-    @staticmethod
-    def _try(call, *args):
-        try:
-            call(*args)
-        except ReferenceError:  # the area, window or workspace was closed meanwhile
-            pass
-
-    def show(self, fraction, message):
-        """Progress and ``message`` in the status bar and the header."""
-        percent = int(100 * fraction)
-        self._try(self.wm.progress_update, percent)
-        text = f"Geodesic distance: {message} ({percent}%), Esc to cancel"
-        if self.workspace is not None:
-            self._try(self.workspace.status_text_set, text)
-        if self.area is not None:
-            self._try(self.area.header_text_set, text)
-
-    def end(self):
-        """Remove the timer, end the progress indicator, restore the status bar and the header."""
-        if self.ended:
-            return
-        self.ended = True
-        self._try(self.wm.event_timer_remove, self.timer)
-        self._try(self.wm.progress_end)
-        if self.workspace is not None:
-            self._try(self.workspace.status_text_set, None)
-        if self.area is not None:
-            self._try(self.area.header_text_set, None)
-            self._try(self.area.tag_redraw)
-
-
 class ModalRun:
     """One click whose solver is built in the background: the modal operator's logic, without the operator.
 
@@ -129,7 +81,7 @@ class ModalRun:
     ----------
     run : PreparedRun
         From :func:`~.stages.prepare_run` (its solver not cached).
-    display : BuildDisplay or an object with ``show(fraction, message)`` and ``end()``
+    display : ProgressDisplay or an object with ``progress(fraction, message)`` and ``end()``
     report : callable
         ``report(type, message)``, as ``Operator.report``.
     """
@@ -146,7 +98,7 @@ class ModalRun:
     def start(self):
         """Start the worker (raises :class:`~.background.Busy` while another build runs)."""
         self.build.start()
-        self.display.show(*self.build.progress())
+        self.display.progress(*self.build.progress())
 
     def handle(self, context, event_type, event_value="NOTHING"):
         """Handle one event: the operator's ``modal`` result set.
@@ -163,11 +115,11 @@ class ModalRun:
             return {"PASS_THROUGH"}
         state = self.build.poll()
         if state == RUNNING:
-            self.display.show(*self.build.progress())
+            self.display.progress(*self.build.progress())
             return {"PASS_THROUGH"}
         if state != CANCELLED and not self.finishing:
             self.finishing = True
-            self.display.show(BUILD_RANGE[1], "solving for the distance and writing the attributes")
+            self.display.progress(BUILD_RANGE[1], "solving for the distance and writing the attributes")
             return {"PASS_THROUGH"}
         try:
             if state == CANCELLED:
@@ -259,7 +211,7 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
         except REPORTED_ERRORS as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
-        self._modal = ModalRun(run, BuildDisplay(context), self.report)
+        self._modal = ModalRun(run, ProgressDisplay(context, "Geodesic distance"), self.report)
         try:
             self._modal.start()
         except Busy as exc:  # pragma: no cover - checked above; another build started in between

@@ -32,18 +32,18 @@ import heatcore as hc
 
 @pytest.fixture(scope="module")
 def modules(addon):  # noqa: F811
-    names = ("api", "stages", "background", "operator", "cache")
+    names = ("api", "stages", "background", "operator", "cache", "display")
     return {name: importlib.import_module(f"blender_addon.{name}") for name in names}
 
 
 class RecordingDisplay:
-    """Stands in for BuildDisplay (status bar, header, progress indicator, timer)."""
+    """Stands in for the ProgressDisplay (status bar, header, progress indicator, timer)."""
 
     def __init__(self):
         self.shown = []
         self.ended = 0
 
-    def show(self, fraction, message):
+    def progress(self, fraction, message):
         self.shown.append((fraction, message))
 
     def end(self):
@@ -286,13 +286,15 @@ def test_headless_operator_stays_synchronous_and_the_display_calls_exist(modules
     with bpy.context.temp_override(active_object=obj, object=obj):
         assert bpy.ops.mesh.heat_geodesic_distance("INVOKE_DEFAULT") == {"FINISHED"}
     assert "geodesic_distance" in obj.data.attributes  # written before the call returned
-    # the status bar, header, timer and progress calls of BuildDisplay exist in this Blender
+    # the status bar, header, timer and progress calls of the ProgressDisplay exist in this Blender
     window = bpy.context.window_manager.windows[0]
     area = next(a for a in window.screen.areas if a.type == "VIEW_3D")
     with bpy.context.temp_override(window=window, area=area):
-        display = operator.BuildDisplay(bpy.context)
+        display = modules["display"].ProgressDisplay(bpy.context, "Geodesic distance")
         assert display.timer.time_step == pytest.approx(operator.TIMER_STEP)
-        display.show(0.42, "factoring the heat matrix")
+        display.progress(0.42, "factoring the heat matrix")
+        display.text("Geodesic probe: click on the surface", "Esc: cancel")
+        display.ready()
         display.end()
         display.end()  # every exit path ends it; twice is harmless
     assert display.ended
