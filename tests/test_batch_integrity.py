@@ -32,6 +32,7 @@ from heatcore.apps.batch import (
 from heatcore.apps.cli import main
 from heatcore.io import demo_mesh_path
 from heatcore.io.domain import read_domain
+from heatcore.settings import Settings
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -111,8 +112,32 @@ def test_rerun_with_other_solver_options_recomputes_and_cli_defaults_match_api(t
     assert np.array_equal(load_distances(out / "g.npz"), fresh(grid, [4], m=4.0))
     assert not np.array_equal(fresh(grid, [4], m=4.0), fresh(grid, [4]))
     spec = parse_sources("4")  # an option added later (e.g. weld) is keyed without a change in batch
-    assert result_key(grid, spec, mesh_options={"weld": False}) != result_key(grid, spec)
-    assert result_key(grid, spec, solver_options={"m": 1}) == result_key(grid, spec, solver_options={"m": 1.0})
+    assert result_key(grid, spec, Settings.of("batch", weld=None)) != result_key(grid, spec)
+    assert result_key(grid, spec, Settings.of("batch", m=1)) == result_key(grid, spec, Settings.of("batch", m=1.0))
+
+
+#: Keys of format 1 as heatcore wrote them before the settings object (mesh and solver options read from the
+#: signatures of DomainFile.domain and HeatSolver, progress among them), for spot.obj.
+FORMAT_1_KEYS = [
+    ("0,17", {}, '{"format":1,"heatcore":"0.1.0","kind":"auto","mesh_options":{"progress":null,"refine":"auto",'
+     '"robust":true,"weld":0.0},"mesh_sha256":"0738b5e8608fed74e5e8c7aa8dd0af97b4b74f9f6cbf7aac84cd7e40b2e44a75",'
+     '"solver_options":{"accuracy":"smooth","backend":"auto","boundary":"robin","m":1.0,"progress":null},'
+     '"sources":{"indices":[0,17],"mode":"indices","union":false}}'),
+    ("all", {"domain": "polygon", "refine": 0, "weld": None, "m": 4, "accuracy": "high", "backend": "superlu"},
+     '{"format":1,"heatcore":"0.1.0","kind":"polygon","mesh_options":{"progress":null,"refine":0.0,"robust":true,'
+     '"weld":null},"mesh_sha256":"0738b5e8608fed74e5e8c7aa8dd0af97b4b74f9f6cbf7aac84cd7e40b2e44a75",'
+     '"solver_options":{"accuracy":"high","backend":"superlu","boundary":"robin","m":4.0,"progress":null},'
+     '"sources":{"mode":"all","union":false}}'),
+]
+
+
+@pytest.mark.parametrize(("sources", "options", "key"), FORMAT_1_KEYS)
+def test_keys_from_settings_equal_the_keys_written_before(sources, options, key):
+    import heatcore
+
+    expected = json.loads(key) | {"heatcore": heatcore.__version__}
+    new = result_key(demo_mesh_path(), parse_sources(sources), Settings.of("batch", **options))
+    assert json.loads(new) == expected and new == json.dumps(expected, sort_keys=True, separators=(",", ":"))
 
 
 def test_result_of_an_older_version_without_key_is_recomputed(tmp_path):

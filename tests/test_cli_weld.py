@@ -98,9 +98,9 @@ def test_weld_options_reach_the_mesh(sphere_stl, monkeypatch, tmp_path, capsys):
     seen = []
     real = hc.TriangleMesh.__init__
 
-    def spy(self, V, F, weld=0.0, **kwargs):  # the mesh's default when the command leaves weld at its default
-        seen.append(weld)
-        real(self, V, F, weld=weld, **kwargs)
+    def spy(self, V, F, settings=None, **kwargs):  # the command hands over the mesh part of its settings
+        seen.append(settings.weld)
+        real(self, V, F, settings, **kwargs)
 
     monkeypatch.setattr(hc.TriangleMesh, "__init__", spy)
     for flags in ([], ["--weld-tolerance", "0.25"], ["--no-weld"]):

@@ -155,24 +155,36 @@ def assert_parser_matches(parser, names, front_end, extra_choices=()):
             assert off.const is None
 
 
-@pytest.mark.parametrize("command", ["distance", "demo", "batch"])
-def test_cli_options_are_the_declared_ones(command):
+#: Each subcommand's front end (its row of FRONT_END_OPTIONS) and the options of that row it has no use for.
+COMMANDS = {"distance": ("cli", ()), "demo": ("cli", ("domain",)), "batch": ("batch", ()),
+            "path": ("cli", ("domain", "colormap", "isolines")), "logmap": ("vector heat", ())}
+
+
+@pytest.mark.parametrize("command", list(COMMANDS))
+def test_cli_options_are_the_front_ends_table(command):
     parser = subparser(command)
-    names = {"distance": (*cli.SOLVER_OPTIONS, "colormap", "isolines", "domain"),
-             "demo": (*cli.SOLVER_OPTIONS, "colormap", "isolines"),
-             "batch": (*cli.SOLVER_OPTIONS, "domain")}[command]
-    assert_parser_matches(parser, names, "cli")
+    front_end, unused = COMMANDS[command]
+    names = [n for n in FRONT_END_OPTIONS[front_end] if n not in unused]
+    if command == "logmap":  # the log map writes colours of the radius, as heatcore distance does
+        names += ["colormap", "isolines"]
+    assert_parser_matches(parser, [n for n in names if n not in ("colormap", "isolines")], front_end)
+    assert_parser_matches(parser, [n for n in names if n in ("colormap", "isolines")], "cli")
     # every parsed option that shares a name with a declaration is that declaration
     declared = set(actions_by_dest(parser)) & set(OPTIONS)
     assert declared == set(names)
 
 
-def test_cli_routes_each_option_to_its_declared_target():
+def test_cli_makes_one_settings_object_of_the_options_set():
+    from heatcore.apps.arguments import settings_of
+
     args = subparser("distance").parse_args(["x.ply", "--m", "3", "--refine", "2", "--no-weld", "--no-robust"])
-    kw = cli.solver_keywords(args)
-    assert kw == {"mesh": {"robust": False, "refine": 2, "weld": None},
-                  "solver": {"m": 3.0, "boundary": "robin", "accuracy": "smooth", "backend": "auto"}}
-    assert all(OPTIONS[n].target == target for target, d in kw.items() for n in d)
+    settings = settings_of(args, intent="one query")
+    assert settings.mesh.keywords() == {"robust": False, "refine": 2, "weld": None}
+    assert settings.solver.keywords() == {"m": 3.0, "boundary": "robin", "accuracy": "smooth", "backend": "auto"}
+    assert settings.mesh.given == {"robust", "refine", "weld"} and settings.solver.intent == "one query"
+    assert settings_of(subparser("distance").parse_args(["x.ply"])).mesh.given == frozenset()
+    logmap = settings_of(subparser("logmap").parse_args(["x.ply", "-s", "0"]), "vector heat")
+    assert logmap.solver.accuracy == "high"
 
 
 MESHLAB_OPTIONS = FRONT_END_OPTIONS["meshlab"]

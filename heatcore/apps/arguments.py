@@ -1,17 +1,21 @@
 """The ``heatcore`` command's arguments: option groups generated from :mod:`heatcore.options`.
 
-Solver options are the :mod:`heatcore.options` entries named in
-:data:`SOLVER_OPTIONS`; each goes to the domain or to the solver by its
-declared ``target`` (:func:`solver_keywords`). Their flags, types, ranges,
-defaults and help texts all come from that table; a new solver option is one
-more declaration there and one more name here.
+Each subcommand offers the options of its front end's row of
+:data:`heatcore.settings.FRONT_END_OPTIONS` (``"cli"`` for ``distance``,
+``demo`` and ``path``, ``"batch"``, ``"vector heat"`` for ``logmap``); their
+flags, types, ranges, defaults and help texts all come from
+:mod:`heatcore.options`, so a new option is one more declaration there and one
+more name in that table. A run turns what was parsed into one
+:class:`~heatcore.settings.Settings` (:func:`settings_of`), which the command
+hands over as it is.
 
 Examples
 --------
 >>> p = _Parser(prog="demo")
 >>> add_solver_options(p)
->>> solver_keywords(p.parse_args(["--m", "2", "--no-weld"]))
-{'mesh': {'weld': None}, 'solver': {'m': 2.0, 'boundary': 'robin', 'accuracy': 'smooth', 'backend': 'auto'}}
+>>> s = settings_of(p.parse_args(["--m", "2", "--no-weld"]), intent="one query")
+>>> s.solver.m, s.solver.intent, s.mesh.weld, sorted(s.mesh.given)
+(2.0, 'one query', None, ['weld'])
 """
 
 import argparse
@@ -21,10 +25,8 @@ import numpy as np
 
 from .. import options
 from ..io.mesh import short
+from ..settings import FRONT_END_OPTIONS, Settings
 from .inputs import _non_negative_int, _positive_float, _vertex_index
-
-#: Options of :mod:`heatcore.options` on the command line of ``distance``, ``demo`` and ``batch``.
-SOLVER_OPTIONS = ("m", "boundary", "accuracy", "backend", "robust", "refine", "weld")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -34,17 +36,29 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {short(message, 400)} (see '{self.prog} --help')\n")
 
 
-def add_solver_options(parser, front_end="cli"):
-    """Add ``--m``, ``--boundary``, ``--accuracy``, ``--no-robust``, ``--refine``, ``--weld-tolerance | --no-weld``.
+def solver_option_names(front_end="cli"):
+    """The mesh and solver options ``front_end`` offers (:data:`~heatcore.settings.FRONT_END_OPTIONS`), in its order.
 
-    One argument group, "solver options"; each option's flag, type, range,
-    default and help come from :mod:`heatcore.options` (:data:`SOLVER_OPTIONS`).
+    Examples
+    --------
+    >>> solver_option_names("cli")
+    ('m', 'boundary', 'accuracy', 'backend', 'robust', 'refine', 'weld')
+    """
+    return tuple(name for name in FRONT_END_OPTIONS[front_end] if options.OPTIONS[name].target in ("mesh", "solver"))
+
+
+def add_solver_options(parser, front_end="cli"):
+    """Add the mesh and solver options of ``front_end``: ``--m``, ``--boundary``, ``--accuracy``, ``--backend``, ...
+
+    One argument group, "solver options", of :func:`solver_option_names`;
+    each option's flag, type, range, default and help come from
+    :mod:`heatcore.options`.
 
     Parameters
     ----------
     parser : argparse.ArgumentParser
     front_end : str, default "cli"
-        Whose defaults (``"vector heat"``: ``heatcore logmap``'s).
+        Whose options and defaults (``"vector heat"``: ``heatcore logmap``'s).
 
     Examples
     --------
@@ -55,43 +69,41 @@ def add_solver_options(parser, front_end="cli"):
     (4.0, 0, 'robin')
     """
     group = parser.add_argument_group("solver options")
-    for name in SOLVER_OPTIONS:
+    for name in solver_option_names(front_end):
         options.add_argument(group, name, front_end=front_end)
 
 
-def solver_keywords(args):
-    """``{"mesh": {...}, "solver": {...}}``: the parsed solver options by where they go.
+def settings_of(args, front_end="cli", intent="reuse"):
+    """The run's one :class:`~heatcore.settings.Settings`, from parsed arguments.
 
-    Each option goes to its declared ``target`` in :mod:`heatcore.options`:
-    the domain (``mesh``) or :class:`~heatcore.HeatSolver` (``solver``). The
-    mesh part holds only the options set to something other than their
-    default (the domains' own defaults are the same), so that a domain refuses
-    an option it does not take only when the user set it
-    (:meth:`heatcore.io.domain.DomainFile.domain`).
+    Every option of ``front_end`` (:data:`~heatcore.settings.FRONT_END_OPTIONS`)
+    that the parser has goes in where it differs from the front end's
+    default: those count as given (``settings.mesh.given``), so a domain
+    refuses an option it does not take only when the user set it
+    (:meth:`heatcore.io.domain.DomainFile.domain`). The values were checked
+    by argparse (:meth:`heatcore.options.Option.parse`); :meth:`Settings.of`
+    checks each once more, as it checks every front end's.
 
     Parameters
     ----------
     args : argparse.Namespace
-        Parsed by a parser with :func:`add_solver_options`.
-
-    Returns
-    -------
-    dict of str to dict
+    front_end : str, default "cli"
+    intent : {"reuse", "one query"}, default "reuse"
+        What the solver is built for (:data:`heatcore.settings.INTENTS`).
 
     Examples
     --------
     >>> p = _Parser(prog="demo")
     >>> add_solver_options(p)
-    >>> kw = solver_keywords(p.parse_args(["--accuracy", "high", "--refine", "0"]))
-    >>> kw["mesh"]["refine"], kw["solver"]["accuracy"]
-    (0, 'high')
+    >>> s = settings_of(p.parse_args(["--accuracy", "high", "--refine", "0"]))
+    >>> s.mesh.refine, s.solver.accuracy, s.solver.intent, sorted(s.mesh.given)
+    (0, 'high', 'reuse', ['refine'])
     """
-    kw = {"mesh": {}, "solver": {}}
-    for name in SOLVER_OPTIONS:
-        opt, value = options.OPTIONS[name], getattr(args, name)
-        if opt.target == "solver" or value != opt.default:
-            kw[opt.target][name] = value
-    return kw
+    unset = object()
+    values = {name: getattr(args, name, unset) for name in FRONT_END_OPTIONS[front_end]}
+    given = {name: value for name, value in values.items()
+             if value is not unset and value != options.OPTIONS[name].default_for(front_end)}
+    return Settings.of(front_end, intent=intent, **given)
 
 
 def add_output_options(parser, png_help=None, view_default=None):
@@ -300,7 +312,7 @@ def batch_arguments(p):
                      help="only resume an earlier run: stop with an error, before any work, if a result in "
                           "the output folder was computed from another mesh file, other sources or options")
     options.add_argument(p, "domain")
-    add_solver_options(p)
+    add_solver_options(p, front_end="batch")
     add_common_options(p)
 
 

@@ -3,9 +3,12 @@
 Subcommands are registered in :data:`COMMANDS` with the :func:`command`
 decorator (a function that adds the arguments, and one that runs them), so
 a new subcommand is one more decorated pair; their arguments live in
-:mod:`heatcore.apps.arguments`. Solver options are declared once, in
-:mod:`heatcore.options` (flags, ranges, defaults, help), and routed to the
-domain or to :class:`~heatcore.HeatSolver` by their declared target.
+:mod:`heatcore.apps.arguments`. Options are declared once, in
+:mod:`heatcore.options` (flags, ranges, defaults, help); each subcommand
+offers its front end's row of :data:`heatcore.settings.FRONT_END_OPTIONS`
+and turns what was parsed into one :class:`~heatcore.settings.Settings`
+(:func:`~heatcore.apps.arguments.settings_of`), whose mesh part builds the
+domain and whose solver part the :class:`~heatcore.HeatSolver`.
 
 Progress and timings go to stderr (``--quiet`` silences them); results and
 the paths written go to stdout. Every error is one line on stderr. Exit
@@ -35,8 +38,7 @@ import numpy as np
 
 from ..errors import HeatcoreError, HeatcoreWarning, InvalidMeshError
 from ..io.mesh import short
-from .arguments import (  # noqa: F401 (SOLVER_OPTIONS, add_*_options: part of this module's API)
-    SOLVER_OPTIONS,
+from .arguments import (  # noqa: F401 (add_*_options, solver_option_names: part of this module's API)
     _Parser,
     add_common_options,
     add_output_options,
@@ -46,7 +48,8 @@ from .arguments import (  # noqa: F401 (SOLVER_OPTIONS, add_*_options: part of t
     distance_arguments,
     logmap_arguments,
     meshlab_arguments,
-    solver_keywords,
+    settings_of,
+    solver_option_names,
 )
 from .inputs import check_sources, command_line_sources, gather_sources, read_mesh_file
 from .logmap import run_logmap
@@ -75,26 +78,26 @@ DEMO_VIEW = {"elevation": 15.0, "azimuth": 150.0, "up": "y"}
 # --------------------------------------------------------------------------- options
 
 
-def build_solver(source, args):
-    """Domain + HeatSolver for one query (the backend that factors fastest), from a
-    :class:`~heatcore.io.domain.DomainFile` and the solver options.
+def build_solver(source, settings):
+    """Domain + HeatSolver from a :class:`~heatcore.io.domain.DomainFile` and the run's settings.
+
+    The mesh part of ``settings`` builds the domain, its solver part (with
+    its intent: ``"one query"`` for ``distance`` and ``demo``) the solver.
 
     Examples
     --------
     >>> from heatcore.io import demo_mesh_path
     >>> args = build_parser().parse_args(["distance", "spot.obj", "-o", "d.npy", "--refine", "0"])
-    >>> solver = build_solver(read_mesh_file(demo_mesh_path()), args)
+    >>> solver = build_solver(read_mesh_file(demo_mesh_path()), settings_of(args, intent="one query"))
     >>> solver.distance([0]).shape
     (2930,)
     """
-    from .. import HeatSolver, linalg
+    from .. import HeatSolver
 
-    kw = solver_keywords(args)
     domain_progress, solver_progress = build_progress(len(source.vertices))
     with _stage("precompute"):
-        domain = source.domain(**kw["mesh"], progress=domain_progress)
-        backend = linalg.one_query_backend(kw["solver"].pop("backend"), domain.operators.n_vertices)
-        solver = HeatSolver(domain, **kw["solver"], backend=backend, progress=solver_progress)
+        domain = source.domain(settings.mesh, progress=domain_progress)
+        solver = HeatSolver(domain, settings.solver, progress=solver_progress)
     welded = getattr(solver.domain, "n_welded", 0)
     if welded:
         log.info("welded %s coincident vertices: %s remain", f"{welded:,}", f"{len(source.vertices) - welded:,}")
@@ -181,9 +184,10 @@ def run_distance(args):
         raise UsageError("nothing to write: give -o/--output FILE (.ply, .npy, .csv), --png PATH "
                          "and/or --isolines-out PATH N")
     check_output_paths(args.output, args.png, [args.mesh, *(args.sources_file or [])], args.overwrite, curves)
+    settings = settings_of(args, intent="one query")  # one source set: the backend that factors fastest
     given = command_line_sources(args)
     with _stage("read mesh"):
-        mesh = read_mesh_file(args.mesh, args.domain)
+        mesh = read_mesh_file(args.mesh, settings.domain)
     check_outputs_fit(args.output, args.png, mesh.kind, curves)
     log.info("%s: %d vertices", {"points": "point cloud", "tet": "tetrahedral mesh"}.get(mesh.kind, f"{mesh.kind} mesh"),
              len(mesh.vertices))
@@ -191,7 +195,7 @@ def run_distance(args):
     check_sources(sources, len(mesh.vertices))
     log.info("sources: %d from %s", sources.size, origin)
     try:
-        solver = build_solver(mesh, args)
+        solver = build_solver(mesh, settings)
     except InvalidMeshError as exc:  # the arrays read are checked here: say which file they came from
         raise InvalidMeshError(f"{args.mesh}: {exc}") from exc
     with _stage("query"):
@@ -252,7 +256,7 @@ def run_demo(args):
         mesh = read_mesh_file(demo_mesh_path())
     log.info("mesh: spot, %d vertices, %d triangles", len(mesh.vertices), len(mesh.surface))
     sources = np.array([DEMO_SOURCE])
-    solver = build_solver(mesh, args)
+    solver = build_solver(mesh, settings_of(args, intent="one query"))
     with _stage("query"):
         d = solver.distance(sources)
     log.info("%s", _summary(d))
@@ -344,10 +348,9 @@ def run_batch_command(args):
     from .batch import SUMMARY_NAME, parse_sources, run_batch
 
     spec = parse_sources(args.sources, suffix=args.sources_file_suffix, union=args.union)
-    kw = solver_keywords(args)
     rows = run_batch(args.inputs, args.output_dir, spec, scheduler=args.scheduler, workers=args.workers,
-                     max_memory_mb=args.max_memory, kind=args.domain, mesh_options=kw["mesh"],
-                     solver_options=kw["solver"], progress=not args.quiet, resume_only=args.resume_only)
+                     max_memory_mb=args.max_memory, settings=settings_of(args, "batch"), progress=not args.quiet,
+                     resume_only=args.resume_only)
     counts = {status: sum(r["status"] == status for r in rows) for status in ("ok", "skipped", "error")}
     for r in rows:
         if r["status"] == "error":

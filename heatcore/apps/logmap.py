@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InvalidMeshError
-from .arguments import solver_keywords
+from .arguments import settings_of
 from .inputs import check_sources, read_mesh_file
 from .outputs import UsageError, atomic_output, check_output_paths
 from .reporting import _stage
@@ -72,10 +72,10 @@ def run_logmap(args):
         mesh = read_mesh_file(args.mesh, "triangle")
     log.info("triangle mesh: %d vertices", len(mesh.vertices))
     check_sources([args.source], len(mesh.vertices))
-    kw = solver_keywords(args)
+    settings = settings_of(args, "vector heat")  # the vector heat method's options and defaults
     try:
         with _stage("precompute"):
-            solver = VectorHeatSolver(mesh.domain(**kw["mesh"]), **kw["solver"])
+            solver = VectorHeatSolver(mesh.domain(settings.mesh), **settings.solver.keywords())
     except InvalidMeshError as exc:  # the arrays read are checked here: say which file they came from
         raise InvalidMeshError(f"{args.mesh}: {exc}") from exc
     with _stage("query"):

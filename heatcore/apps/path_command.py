@@ -41,7 +41,7 @@ import numpy as np
 
 from ..errors import InvalidMeshError
 from ..io.curves import write_obj_curves
-from .arguments import add_common_options, add_solver_options, solver_keywords
+from .arguments import add_common_options, add_solver_options, settings_of
 from .inputs import _vertex_index, read_mesh_file
 from .outputs import CliError, UsageError, _same_file, atomic_output
 from .reporting import _stage
@@ -135,10 +135,10 @@ def run_path(args):
         mesh = read_mesh_file(args.mesh)
     from ..heat import HeatSolver
 
-    kw = solver_keywords(args)
+    settings = settings_of(args)  # the command line's options (no domain kind, no colours)
     try:
         with _stage("precompute"):
-            solver = HeatSolver(mesh.domain(**kw["mesh"]), **kw["solver"])
+            solver = HeatSolver(mesh.domain(settings.mesh), settings.solver)
     except InvalidMeshError as exc:
         raise InvalidMeshError(f"{args.mesh}: {exc}") from exc
     with _stage("path"):

@@ -20,8 +20,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InvalidMeshError, InvalidOptionError, NoFacesError
+from ..errors import InvalidMeshError, NoFacesError
 from ..options import OPTIONS, check
+from ..settings import MeshSettings
 
 #: How a file may be read (the ``domain`` option of :mod:`heatcore.options`).
 DOMAIN_KINDS = OPTIONS["domain"].choices
@@ -67,21 +68,27 @@ class DomainFile:
         """Vertices selected in the file (MeshLab PLY flags)."""
         return self.selection
 
-    def domain(self, progress=None, **options):
+    def domain(self, settings=None, *, progress=None, **options):
         """Build the domain, with the mesh options its user set.
 
         Parameters
         ----------
+        settings : MeshSettings or Settings, optional
+            The run's mesh options as a front end hands them over
+            (:mod:`heatcore.settings`); ``settings.given`` names those its
+            user set.
         progress : callable, optional
             A :mod:`heatcore.progress` callback; a triangle mesh reports its
             build stages to it (the other kinds build in one step).
         **options
             Mesh options (``robust``, ``refine``, ``weld``; see
-            :mod:`heatcore.options`) the user set. Each must be one the kind of
-            domain takes (:data:`DOMAIN_OPTIONS`); those left out take the
-            domain's defaults, which are the options' defaults. A front end
-            that holds every option passes only those set, or changed from
-            their default.
+            :mod:`heatcore.options`) set here, checked once
+            (:meth:`~heatcore.settings.MeshSettings.of`); with ``settings``,
+            they change it.
+
+        Each option given must be one the kind of domain takes
+        (:data:`DOMAIN_OPTIONS`); those not given take the front end's
+        defaults, which are the domains' own.
 
         Raises
         ------
@@ -92,28 +99,24 @@ class DomainFile:
         Examples
         --------
         >>> import numpy as np
+        >>> from heatcore.settings import Settings
         >>> f = DomainFile("points", np.eye(3), None, None)
-        >>> type(f.domain(refine=0)).__name__
-        'PointCloud'
+        >>> type(f.domain(refine=0)).__name__, type(f.domain(Settings.of("cli", refine=0))).__name__
+        ('PointCloud', 'PointCloud')
         >>> f.domain(weld=0.5)
         Traceback (most recent call last):
         ...
         heatcore.errors.InvalidOptionError: a point cloud does not take the option weld (it takes refine)
         """
+        settings = MeshSettings.of(settings, **options)
         cls = _domain_class(self.kind)
-        refused = [name for name in options if name not in DOMAIN_OPTIONS[self.kind]]
-        if refused:
-            s = "s" if len(refused) > 1 else ""
-            takes = ", ".join(DOMAIN_OPTIONS[self.kind]) or "no mesh option"
-            raise InvalidOptionError(f"a {cls.domain_name} does not take the option{s} {', '.join(refused)} "
-                                     f"(it takes {takes})")
+        settings.refuse_untaken(DOMAIN_OPTIONS[self.kind], cls.domain_name)
         if self.kind == "triangle":
-            return cls(self.vertices, self.cells, progress=progress, **options)
-        mesh = cls(self.vertices, self.cells, **options)
+            return cls(self.vertices, self.cells, settings, progress=progress)
+        mesh = cls(self.vertices, self.cells, settings)
         if self.kind == "tet":
             self.surface = mesh.boundary_faces
         return mesh
-
 
 
 def _domain_class(kind):

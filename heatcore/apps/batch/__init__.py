@@ -79,7 +79,7 @@ Examples
 >>> tmp.cleanup()
 """
 
-from .keys import file_digest, option_defaults  # noqa: F401 - re-exported
+from .keys import file_digest, key_options  # noqa: F401 - re-exported
 from .run import run_batch  # noqa: F401 - re-exported
 from .runners import error_message, run_dask, run_pool  # noqa: F401 - re-exported
 from .spec import (  # noqa: F401 - re-exported

@@ -2,9 +2,11 @@
 
 A key (:func:`result_key`) is canonical JSON of the SHA-256 of the mesh file's
 bytes, the sources (with the bytes of a per-mesh sources file), the domain
-kind, every mesh and solver option (defaults filled in from the options table
-and the solver's signature, so a new option is keyed without a change here), the heatcore version and the key
-format. Two runs share a result only when their keys are equal.
+kind, every mesh and solver option of the run's
+:class:`~heatcore.settings.Settings` (:func:`key_options`: each option holds its
+value or its default, so a new option is keyed without a change here), the
+heatcore version and the key format. Two runs share a result only when their
+keys are equal.
 
 Examples
 --------
@@ -59,27 +61,27 @@ def sources_file_path(mesh_path, suffix):
     return mesh_path.with_name(mesh_path.stem + suffix)
 
 
-def option_defaults():
-    """Defaults of the mesh options (:func:`heatcore.options.defaults`) and of :class:`~heatcore.HeatSolver`.
+def key_options(settings):
+    """The ``(mesh_options, solver_options)`` a key holds: every option of the settings' mesh and solver parts.
 
-    Read from the options table and the solver's signature, so an option added there is part of every key.
+    Key format 1 was first read from the signatures of
+    ``DomainFile.domain`` and ``HeatSolver``, so both groups also name
+    ``progress`` (null); it stays, so that the results written since keep
+    their keys. The solver's intent is not keyed (a batch reuses its solver).
+
+    Parameters
+    ----------
+    settings : Settings
+        The run's settings (``Settings.of("batch", ...)``).
 
     Examples
     --------
-    >>> mesh, solver = option_defaults()
-    >>> solver["m"], mesh["robust"]
-    (1.0, True)
+    >>> from heatcore.settings import Settings
+    >>> mesh, solver = key_options(Settings.of("batch", m=2))
+    >>> solver["m"], mesh["robust"], mesh["progress"]
+    (2.0, True, None)
     """
-    import inspect
-
-    from ...heat import HeatSolver
-    from ...options import defaults as option_table
-
-    def defaults(func):
-        return {name: p.default for name, p in inspect.signature(func).parameters.items()
-                if p.default is not inspect.Parameter.empty}
-
-    return option_table("mesh"), defaults(HeatSolver.__init__)
+    return ({**settings.mesh.keywords(), "progress": None}, {**settings.solver.keywords(), "progress": None})
 
 
 def _plain(value):
@@ -99,7 +101,7 @@ def _plain(value):
     return repr(value)
 
 
-def result_key(mesh_path, spec, kind="auto", mesh_options=None, solver_options=None):
+def result_key(mesh_path, spec, settings=None):
     """The key of a batch result: what it was computed from, as canonical JSON.
 
     Parameters
@@ -108,11 +110,10 @@ def result_key(mesh_path, spec, kind="auto", mesh_options=None, solver_options=N
         The mesh file; its bytes are hashed (SHA-256).
     spec : heatcore.apps.batch.SourceSpec
         The sources; a per-mesh sources file is hashed too.
-    kind : str
-        How the file is read.
-    mesh_options, solver_options : dict, optional
-        Options of the domain and of the solver; missing ones are keyed by
-        their defaults (:func:`option_defaults`).
+    settings : Settings, optional
+        The run's settings (default: ``Settings.of("batch")``): how the file is
+        read (``settings.domain``) and every mesh and solver option
+        (:func:`key_options`).
 
     Returns
     -------
@@ -122,15 +123,18 @@ def result_key(mesh_path, spec, kind="auto", mesh_options=None, solver_options=N
     --------
     >>> from heatcore.apps.batch import parse_sources
     >>> from heatcore.io import demo_mesh_path
+    >>> from heatcore.settings import Settings
     >>> a = result_key(demo_mesh_path(), parse_sources("0"))
-    >>> a == result_key(demo_mesh_path(), parse_sources("0"), solver_options={"m": 1})
+    >>> a == result_key(demo_mesh_path(), parse_sources("0"), Settings.of("batch", m=1))
     True
     >>> a == result_key(demo_mesh_path(), parse_sources("5"))
     False
     """
     from ... import __version__
+    from ...settings import Settings
 
-    mesh_defaults, solver_defaults = option_defaults()
+    settings = Settings.of("batch") if settings is None else settings
+    mesh_options, solver_options = key_options(settings)
     sources = {"mode": spec.mode, "union": bool(spec.union)}
     if spec.mode == "indices":
         sources["indices"] = [int(i) for i in spec.indices]
@@ -145,9 +149,9 @@ def result_key(mesh_path, spec, kind="auto", mesh_options=None, solver_options=N
         "heatcore": __version__,
         "mesh_sha256": file_digest(mesh_path),
         "sources": sources,
-        "kind": kind,
-        "mesh_options": _plain({**mesh_defaults, **(mesh_options or {})}),
-        "solver_options": _plain({**solver_defaults, **(solver_options or {})}),
+        "kind": settings.domain,
+        "mesh_options": _plain(mesh_options),
+        "solver_options": _plain(solver_options),
     }
     return json.dumps(key, sort_keys=True, separators=(",", ":"))
 

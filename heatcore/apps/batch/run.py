@@ -17,7 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ...options import check_all
+from ...errors import InvalidOptionError
+from ...settings import Settings
 from .keys import key_digest, result_key
 from .runners import run_dask, run_pool
 from .spec import (
@@ -82,7 +83,7 @@ def _clock(seconds):
 
 
 def run_batch(inputs, output_dir, sources=None, *, sources_suffix=None, union=False, scheduler=None,
-              workers=None, max_memory_mb=DEFAULT_MAX_MEMORY_MB, kind="auto", mesh_options=None,
+              workers=None, max_memory_mb=DEFAULT_MAX_MEMORY_MB, settings=None, kind="auto", mesh_options=None,
               solver_options=None, progress=True, resume_only=False):
     """Geodesic distances for every mesh file of ``inputs``; returns the summary rows.
 
@@ -106,11 +107,16 @@ def run_batch(inputs, output_dir, sources=None, *, sources_suffix=None, union=Fa
     max_memory_mb : float, default 1024
         Bound on the distance rows a task holds at once; results with more rows
         are written in blocks of that size. Each concurrent task has its own bound.
+    settings : Settings, optional
+        The run's settings, ``Settings.of("batch", ...)``: how to read files
+        (``domain``), the domain's options and the solver's
+        (:mod:`heatcore.settings`); every task takes them as they are.
     kind : str, default "auto"
-        How to read files (see :func:`heatcore.io.domain.read_domain`).
+        Without ``settings``: how to read files (see :func:`heatcore.io.domain.read_domain`).
     mesh_options, solver_options : dict, optional
-        Keywords of the domain (``robust``, ``refine``) and of
-        :class:`~heatcore.HeatSolver` (``m``, ``boundary``, ``accuracy``).
+        Without ``settings``: options of the domain (``robust``, ``refine``) and of
+        :class:`~heatcore.HeatSolver` (``m``, ``boundary``, ``accuracy``,
+        ``backend``), made one ``Settings.of("batch", ...)`` with ``kind``.
     progress : bool, default True
         Progress line with counts and ETA on stderr.
     resume_only : bool, default False
@@ -129,6 +135,8 @@ def run_batch(inputs, output_dir, sources=None, *, sources_suffix=None, union=Fa
     ------
     BatchError
         Bad inputs or options; with ``resume_only``, results that do not match.
+    InvalidOptionError
+        A bad option value, or options given both in ``settings`` and as keywords.
     KeyboardInterrupt
         Re-raised after Ctrl-C, once queued work is cancelled, the pool's
         workers are stopped and ``summary.csv`` lists what is on disk (meshes
@@ -157,8 +165,7 @@ def run_batch(inputs, output_dir, sources=None, *, sources_suffix=None, union=Fa
         raise BatchError(f"max memory must be a positive number of MB, got {max_memory_mb!r}")
     if workers is not None and (not isinstance(workers, int) or workers < 0):
         raise BatchError(f"workers must be a non-negative integer, got {workers!r}")
-    # every option checked by heatcore.options before any work (as the command line's are)
-    mesh_options, solver_options = check_all(dict(mesh_options or {})), check_all(dict(solver_options or {}))
+    settings = _settings(settings, kind, mesh_options, solver_options)  # checked once, before any work
     paths = find_inputs(inputs)
     output_dir = Path(output_dir)
     try:
@@ -171,7 +178,7 @@ def run_batch(inputs, output_dir, sources=None, *, sources_suffix=None, union=Fa
     def key_of(path):  # None when the file cannot be read (its task says why)
         if path not in keys:
             try:
-                keys[path] = result_key(path, spec, kind, mesh_options, solver_options)
+                keys[path] = result_key(path, spec, settings)
             except OSError:
                 keys[path] = None
         return keys[path]
@@ -185,7 +192,7 @@ def run_batch(inputs, output_dir, sources=None, *, sources_suffix=None, union=Fa
                 rows[p] = _result_row(p, info, "skipped")
                 continue
             stale.append((p, out, reason))
-        todo.append(MeshTask(str(p), str(output_dir), spec, float(max_memory_mb), kind, mesh_options, solver_options))
+        todo.append(MeshTask(str(p), str(output_dir), spec, float(max_memory_mb), settings))
     if stale:
         listed = "; ".join(f"{out.name}: {reason}" for _, out, reason in stale[:5])
         listed += f"; and {len(stale) - 5} more" if len(stale) > 5 else ""
@@ -224,6 +231,16 @@ def run_batch(inputs, output_dir, sources=None, *, sources_suffix=None, union=Fa
         ordered = [rows[p] for p in paths if p in rows]
         write_summary(output_dir / SUMMARY_NAME, ordered)
     return ordered
+
+
+def _settings(settings, kind, mesh_options, solver_options):
+    """The run's :class:`~heatcore.settings.Settings`: ``settings``, or one built of the option keywords."""
+    keywords = {**(mesh_options or {}), **(solver_options or {}), **({"domain": kind} if kind != "auto" else {})}
+    if settings is None:
+        return Settings.of("batch", **keywords)
+    if keywords:
+        raise InvalidOptionError(f"give the options in settings or as keywords, not both ({', '.join(keywords)})")
+    return settings
 
 
 def _result_row(path, info, status):

@@ -15,6 +15,7 @@ from glob import glob
 from pathlib import Path
 
 from ...errors import HeatcoreError
+from ...settings import Settings
 
 #: Extensions a folder input picks up (what :func:`heatcore.io.domain.read_domain` reads).
 MESH_SUFFIXES = (".ply", ".obj", ".off", ".stl", ".glb", ".gltf", ".msh", ".vtu", ".vtk", ".mesh", ".xyz")
@@ -153,26 +154,25 @@ class MeshTask:
     spec : SourceSpec
     max_memory_mb : float
         Bound on the distance rows held at once, in MB.
-    kind : str
-        How to read the file (see :func:`heatcore.io.domain.read_domain`).
-    mesh_options, solver_options : dict
-        Keywords of the domain and of :class:`~heatcore.HeatSolver`.
+    settings : Settings
+        The run's settings (``Settings.of("batch", ...)``): how to read the
+        file (``settings.domain``, see :func:`heatcore.io.domain.read_domain`),
+        the domain's options (``settings.mesh``) and the solver's
+        (``settings.solver``).
 
     Examples
     --------
     >>> import pickle
-    >>> task = MeshTask("meshes/spot.obj", "out", parse_sources("0,17"), solver_options={"m": 2.0})
-    >>> pickle.loads(pickle.dumps(task)) == task, str(task.spec)
-    (True, '0,17')
+    >>> task = MeshTask("meshes/spot.obj", "out", parse_sources("0,17"), settings=Settings.of("batch", m=2.0))
+    >>> pickle.loads(pickle.dumps(task)) == task, str(task.spec), task.settings.solver.m
+    (True, '0,17', 2.0)
     """
 
     path: str
     output_dir: str
     spec: SourceSpec
     max_memory_mb: float = DEFAULT_MAX_MEMORY_MB
-    kind: str = "auto"
-    mesh_options: dict = field(default_factory=dict)
-    solver_options: dict = field(default_factory=dict)
+    settings: Settings = field(default_factory=lambda: Settings.of("batch"))
 
 
 # --------------------------------------------------------------------------- paths

@@ -39,7 +39,7 @@ from .keys import (  # noqa: F401 - re-exported
     describe_difference,
     file_digest,
     key_digest,
-    option_defaults,
+    key_options,
     result_key,
     sources_file_path,
 )

@@ -207,8 +207,9 @@ def _process(task):
     spec = task.spec
     out = output_path(task.output_dir, task.path)
     before = os.stat(task.path)
-    key = result_key(task.path, spec, task.kind, task.mesh_options, task.solver_options)
-    mesh = read_mesh_file(task.path, task.kind)
+    settings = task.settings
+    key = result_key(task.path, spec, settings)
+    mesh = read_mesh_file(task.path, settings.domain)
     after = os.stat(task.path)
     if (before.st_size, before.st_mtime_ns) != (after.st_size, after.st_mtime_ns):
         raise BatchError(f"mesh file {task.path} changed while it was read: run the batch again")
@@ -228,7 +229,7 @@ def _process(task):
             raise InvalidSourceError(f"source vertex {bad[0]} is out of range: the mesh has {n} vertices (0..{n - 1})")
     if spec.mode == "farthest" and spec.k > n:
         raise InvalidSourceError(f"farthest:{spec.k} asks for {spec.k} sources but the mesh has {n} vertices")
-    solver = HeatSolver(mesh.domain(**task.mesh_options), **task.solver_options)
+    solver = HeatSolver(mesh.domain(settings.mesh), settings.solver)
 
     if spec.union:
         distances = solver.distance(sources)[None, :]
