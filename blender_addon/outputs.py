@@ -65,29 +65,19 @@ def check_outputs(
     heatcore.InvalidOptionError
         A bad isoline count or weight option.
     """
-    try:
-        colormap = options.check("colormap", colormap)
-    except heatcore.InvalidOptionError as exc:
-        raise AddonError(str(exc)) from None
-    isolines = options.check("isolines", isolines)
-    weight_options = {"weight_radius": options.check("weight_radius", weight_radius),
-                      "weight_falloff": options.check("weight_falloff", weight_falloff),
-                      "weight_invert": options.check("weight_invert", weight_invert)}
+    given = locals()  # the keywords by name: OUTPUT_NAMES are this signature's
+    outputs = {name: given[name] for name in OUTPUT_NAMES}
+    for name in options.names("output"):  # heatcore's output options: colormap, isolines, weights
+        try:
+            outputs[name] = options.check(name, outputs[name])
+        except heatcore.InvalidOptionError as exc:
+            if name == "colormap":  # a name to pick from a list, as the output names are
+                raise AddonError(str(exc)) from None
+            raise
     adapters.check_output_names(obj, attribute, color_attribute, weight_group or None, source_group)
     if isoline_material:
         _check_isoline_options(attribute, isoline_spacing, isoline_width)
-    return {
-        "attribute": attribute,
-        "color_attribute": color_attribute,
-        "colormap": colormap,
-        "isolines": isolines,
-        "normalize": normalize,
-        "weight_group": weight_group,
-        **weight_options,
-        "isoline_material": isoline_material,
-        "isoline_spacing": isoline_spacing,
-        "isoline_width": isoline_width,
-    }
+    return outputs
 
 
 def _check_isoline_options(attribute, spacing, width):
