@@ -11,7 +11,7 @@ hands over as it is.
 
 Examples
 --------
->>> p = _Parser(prog="demo")
+>>> p = OneLineErrorParser(prog="demo")
 >>> add_solver_options(p)
 >>> s = settings_of(p.parse_args(["--m", "2", "--no-weld"]), intent="one query")
 >>> s.solver.m, s.solver.intent, s.mesh.weld, sorted(s.mesh.given)
@@ -26,11 +26,21 @@ import numpy as np
 from .. import options
 from ..io.mesh import short
 from ..settings import FRONT_END_OPTIONS, Settings
-from .inputs import _non_negative_int, _positive_float, _vertex_index
+from .inputs import parse_non_negative_int, parse_positive_float, parse_vertex_index
 
 
-class _Parser(argparse.ArgumentParser):
-    """Usage errors as one line (``heatcore distance: error: ...``), exit status 2."""
+class OneLineErrorParser(argparse.ArgumentParser):
+    """Usage errors as one line (``heatcore distance: error: ...``), exit status 2.
+
+    Examples
+    --------
+    >>> p = OneLineErrorParser(prog="demo")
+    >>> try:
+    ...     p.parse_args(["--nope"])
+    ... except SystemExit as stop:
+    ...     stop.code
+    2
+    """
 
     def error(self, message):
         self.exit(2, f"{self.prog}: error: {short(message, 400)} (see '{self.prog} --help')\n")
@@ -62,7 +72,7 @@ def add_solver_options(parser, front_end="cli"):
 
     Examples
     --------
-    >>> p = _Parser(prog="demo")
+    >>> p = OneLineErrorParser(prog="demo")
     >>> add_solver_options(p)
     >>> args = p.parse_args(["--m", "4", "--refine", "0"])
     >>> args.m, args.refine, args.boundary
@@ -93,7 +103,7 @@ def settings_of(args, front_end="cli", intent="reuse"):
 
     Examples
     --------
-    >>> p = _Parser(prog="demo")
+    >>> p = OneLineErrorParser(prog="demo")
     >>> add_solver_options(p)
     >>> s = settings_of(p.parse_args(["--accuracy", "high", "--refine", "0"]))
     >>> s.mesh.refine, s.solver.accuracy, s.solver.intent, sorted(s.mesh.given)
@@ -120,7 +130,7 @@ def add_output_options(parser, png_help=None, view_default=None):
 
     Examples
     --------
-    >>> p = _Parser(prog="demo")
+    >>> p = OneLineErrorParser(prog="demo")
     >>> add_output_options(p, png_help="a picture")
     >>> args = p.parse_args(["--colormap", "magma", "--png", "d.png", "--view=-40,20"])
     >>> args.colormap, args.isolines, args.png.name, args.view
@@ -167,7 +177,7 @@ def add_common_options(parser):
 
     Examples
     --------
-    >>> p = _Parser(prog="demo")
+    >>> p = OneLineErrorParser(prog="demo")
     >>> add_common_options(p)
     >>> p.parse_args(["-q"]).quiet, p.parse_args([]).quiet
     (True, False)
@@ -180,7 +190,7 @@ def distance_arguments(p):
 
     Examples
     --------
-    >>> p = _Parser(prog="heatcore distance")
+    >>> p = OneLineErrorParser(prog="heatcore distance")
     >>> distance_arguments(p)
     >>> args = p.parse_args(["spot.obj", "-s", "0", "-s", "17", "-o", "d.npy"])
     >>> args.mesh.name, args.source, args.output, args.refine
@@ -192,7 +202,7 @@ def distance_arguments(p):
                         "(.xyz, or PLY/OBJ without faces)")
     options.add_argument(p, "domain")
     src = p.add_argument_group("sources (combined; default: the PLY's selected vertices)")
-    src.add_argument("-s", "--source", type=_vertex_index, action="append", metavar="INDEX",
+    src.add_argument("-s", "--source", type=parse_vertex_index, action="append", metavar="INDEX",
                      help="source vertex index (0-based); repeat for several sources")
     src.add_argument("--sources-file", type=Path, action="append", metavar="FILE",
                      help="text file of 0-based vertex indices separated by whitespace or commas "
@@ -220,7 +230,7 @@ class _IsolinesOut(argparse.Action):
 
     Examples
     --------
-    >>> p = _Parser(prog="demo")
+    >>> p = OneLineErrorParser(prog="demo")
     >>> _ = p.add_argument("--isolines-out", nargs=2, action=_IsolinesOut)
     >>> p.parse_args(["--isolines-out", "c.obj", "8"]).isolines_out
     (PosixPath('c.obj'), 8)
@@ -229,7 +239,7 @@ class _IsolinesOut(argparse.Action):
     def __call__(self, parser, namespace, values, option_string=None):
         path, count = values
         try:
-            count = _non_negative_int(count)
+            count = parse_non_negative_int(count)
         except argparse.ArgumentTypeError as exc:
             parser.error(f"argument {option_string}: N {exc}")
         if count < 1:
@@ -242,7 +252,7 @@ def demo_arguments(p):
 
     Examples
     --------
-    >>> p = _Parser(prog="heatcore demo")
+    >>> p = OneLineErrorParser(prog="heatcore demo")
     >>> demo_arguments(p)
     >>> args = p.parse_args(["-d", "out", "--isolines", "8"])
     >>> args.output_dir, args.isolines, args.colormap
@@ -260,7 +270,7 @@ def meshlab_arguments(p):
 
     Examples
     --------
-    >>> p = _Parser(prog="heatcore meshlab")
+    >>> p = OneLineErrorParser(prog="heatcore meshlab")
     >>> meshlab_arguments(p)
     >>> args = p.parse_args(["scan.ply", "--sources", "0", "17"])
     >>> args.input, args.sources, args.unreachable
@@ -277,7 +287,7 @@ def batch_arguments(p):
 
     Examples
     --------
-    >>> p = _Parser(prog="heatcore batch")
+    >>> p = OneLineErrorParser(prog="heatcore batch")
     >>> batch_arguments(p)
     >>> args = p.parse_args(["meshes/", "-o", "out", "--sources", "farthest:8", "-j", "2"])
     >>> args.inputs, args.output_dir.name, args.sources, args.workers, args.max_memory
@@ -303,9 +313,9 @@ def batch_arguments(p):
     run.add_argument("--scheduler", metavar="ADDRESS",
                      help="run on this dask.distributed scheduler (e.g. tcp://10.0.0.5:8786), one task per "
                           "mesh; the files must be on a file system the workers share (needs heatcore[batch])")
-    run.add_argument("-j", "--workers", type=_non_negative_int, default=None, metavar="N",
+    run.add_argument("-j", "--workers", type=parse_non_negative_int, default=None, metavar="N",
                      help="local processes (default: all cores; 0: in this process)")
-    run.add_argument("--max-memory", type=_positive_float, default=1024.0, metavar="MB",
+    run.add_argument("--max-memory", type=parse_positive_float, default=1024.0, metavar="MB",
                      help="distance rows a task holds at once, in MB; larger results are written as "
                           "per-block .npy files in NAME.blocks/ (default: %(default)s)")
     run.add_argument("--resume-only", action="store_true",
@@ -321,14 +331,14 @@ def logmap_arguments(p):
 
     Examples
     --------
-    >>> p = _Parser(prog="heatcore logmap")
+    >>> p = OneLineErrorParser(prog="heatcore logmap")
     >>> logmap_arguments(p)
     >>> args = p.parse_args(["spot.obj", "-s", "970", "--reference", "0", "1", "0", "-o", "uv.ply"])
     >>> args.source, args.reference, args.output, args.accuracy
     (970, [0.0, 1.0, 0.0], ['uv.ply'], 'high')
     """
     p.add_argument("mesh", type=Path, metavar="MESH", help="triangle mesh file (PLY, OBJ, OFF, STL, glTF, ...)")
-    p.add_argument("-s", "--source", type=_vertex_index, required=True, metavar="INDEX",
+    p.add_argument("-s", "--source", type=parse_vertex_index, required=True, metavar="INDEX",
                    help="the source vertex (0-based): the origin of the coordinates")
     p.add_argument("--reference", type=float, nargs=3, default=None, metavar=("X", "Y", "Z"),
                    help="a direction at the source (3D, projected on its tangent plane) that becomes the +u "

@@ -39,7 +39,7 @@ import numpy as np
 from ..errors import HeatcoreError, HeatcoreWarning, InvalidMeshError
 from ..io.mesh import short
 from .arguments import (  # noqa: F401 (add_*_options, solver_option_names: part of this module's API)
-    _Parser,
+    OneLineErrorParser,
     add_common_options,
     add_output_options,
     add_solver_options,
@@ -65,7 +65,14 @@ from .outputs import (  # noqa: F401 (check_outputs_fit, OUTPUT_SUFFIXES: part o
     write_output,
 )
 from .path_command import PATH_DESCRIPTION, PATH_HELP, path_arguments, run_path
-from .reporting import _seconds, _show_warning, _stage, _StderrHandler, _summary, build_progress
+from .reporting import (
+    StderrHandler,
+    build_progress,
+    distance_summary,
+    format_seconds,
+    show_warning,
+    timed_stage,
+)
 
 log = logging.getLogger("heatcore.apps.cli")
 
@@ -95,7 +102,7 @@ def build_solver(source, settings):
     from .. import HeatSolver
 
     domain_progress, solver_progress = build_progress(len(source.vertices))
-    with _stage("precompute"):
+    with timed_stage("precompute"):
         domain = source.domain(settings.mesh, progress=domain_progress)
         solver = HeatSolver(domain, settings.solver, progress=solver_progress)
     welded = getattr(solver.domain, "n_welded", 0)
@@ -186,7 +193,7 @@ def run_distance(args):
     check_output_paths(args.output, args.png, [args.mesh, *(args.sources_file or [])], args.overwrite, curves)
     settings = settings_of(args, intent="one query")  # one source set: the backend that factors fastest
     given = command_line_sources(args)
-    with _stage("read mesh"):
+    with timed_stage("read mesh"):
         mesh = read_mesh_file(args.mesh, settings.domain)
     check_outputs_fit(args.output, args.png, mesh.kind, curves)
     log.info("%s: %d vertices", {"points": "point cloud", "tet": "tetrahedral mesh"}.get(mesh.kind, f"{mesh.kind} mesh"),
@@ -198,23 +205,23 @@ def run_distance(args):
         solver = build_solver(mesh, settings)
     except InvalidMeshError as exc:  # the arrays read are checked here: say which file they came from
         raise InvalidMeshError(f"{args.mesh}: {exc}") from exc
-    with _stage("query"):
+    with timed_stage("query"):
         d = solver.distance(sources)
-    log.info("%s", _summary(d))
+    log.info("%s", distance_summary(d))
     cells = mesh.cells if mesh.kind == "tet" else mesh.surface
-    with _stage("write"):
+    with timed_stage("write"):
         for out in args.output:
             faces = cells if Path(out).suffix.lower() in VOLUME_OUTPUT_SUFFIXES else mesh.surface
             write_output(out, mesh.vertices, faces if faces is not None else np.zeros((0, 3), int), d,
                          sources, args.colormap, args.isolines)
             print(f"wrote {out}")
     if args.png is not None:
-        with _stage("render"):
+        with timed_stage("render"):
             render_png(args.png, mesh.vertices, mesh.surface, d, sources, args.colormap, args.isolines,
                        title=args.mesh.name, view=args.view)
         print(f"wrote {args.png}")
     if curves is not None:
-        with _stage("isolines"):
+        with timed_stage("isolines"):
             written = write_isolines(curves, mesh.vertices, mesh.surface, d, args.isolines_out[1])
         print(f"wrote {curves}  ({len(written)} isoline curves)")
     return 0
@@ -252,25 +259,25 @@ def run_demo(args):
         out_dir.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise CliError(f"cannot create output folder {out_dir}: {exc.strerror or exc}") from exc
-    with _stage("read mesh"):
+    with timed_stage("read mesh"):
         mesh = read_mesh_file(demo_mesh_path())
     log.info("mesh: spot, %d vertices, %d triangles", len(mesh.vertices), len(mesh.surface))
     sources = np.array([DEMO_SOURCE])
     solver = build_solver(mesh, settings_of(args, intent="one query"))
-    with _stage("query"):
+    with timed_stage("query"):
         d = solver.distance(sources)
-    log.info("%s", _summary(d))
+    log.info("%s", distance_summary(d))
     ply, png = out_dir / "demo.ply", out_dir / "demo.png"
-    with _stage("write"):
+    with timed_stage("write"):
         write_output(ply, mesh.vertices, mesh.surface, d, sources, args.colormap, args.isolines)
-    with _stage("render"):
+    with timed_stage("render"):
         render_png(png, mesh.vertices, mesh.surface, d, sources, args.colormap, args.isolines,
                    title="geodesic distance from spot's nose (heat method)", view={**DEMO_VIEW, **(args.view or {})})
-    t = _stage.timings
+    t = timed_stage.timings
     print(f"wrote {ply}  (distance as vertex quality and colors; open it in MeshLab)")
     print(f"wrote {png}")
     print(f"spot: {len(mesh.vertices)} vertices, source vertex {DEMO_SOURCE}; "
-          f"precompute {_seconds(t['precompute'])}, query {_seconds(t['query'])}, {_summary(d)}")
+          f"precompute {format_seconds(t['precompute'])}, query {format_seconds(t['query'])}, {distance_summary(d)}")
     return 0
 
 
@@ -374,7 +381,7 @@ def build_parser():
     """
     from .. import __version__
 
-    parser = _Parser(
+    parser = OneLineErrorParser(
         prog="heatcore",
         description="Geodesic distance on meshes by heat flow (Crane, Weischedel, Wardetzky 2013). "
         "Run 'heatcore COMMAND --help' for the options of a command.",
@@ -422,16 +429,16 @@ def main(argv=None):
         return exc.code if isinstance(exc.code, int) else 1
 
     root = logging.getLogger("heatcore")
-    handler = _StderrHandler()
+    handler = StderrHandler()
     saved = root.level, root.propagate
     root.addHandler(handler)
     root.setLevel(logging.WARNING if args.quiet else logging.INFO)
     root.propagate = False
-    _stage.timings = {}
+    timed_stage.timings = {}
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("always", HeatcoreWarning)
-            warnings.showwarning = _show_warning
+            warnings.showwarning = show_warning
             return args.run(args)
     except (HeatcoreError, OSError) as exc:
         message = str(exc)

@@ -9,9 +9,9 @@ so that a bad one costs nothing.
 
 Examples
 --------
->>> _vertex_index("17")
+>>> parse_vertex_index("17")
 17
->>> _vertex_index("99999999999999999999")
+>>> parse_vertex_index("99999999999999999999")
 Traceback (most recent call last):
 ...
 argparse.ArgumentTypeError: vertex index 99999999999999999999 is too large for any mesh (at most 9223372036854775807)
@@ -41,14 +41,36 @@ def _parse(text, kind, what):
         raise argparse.ArgumentTypeError(f"not {what}: {text!r}") from None
 
 
-def _positive_float(text):
+def parse_positive_float(text):
+    """A finite number > 0 from an option value (an ``argparse`` type).
+
+    Examples
+    --------
+    >>> parse_positive_float("2.5")
+    2.5
+    >>> parse_positive_float("0")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: must be a positive number, got '0'
+    """
     value = _parse(text, float, "a number")
     if not (np.isfinite(value) and value > 0):
         raise argparse.ArgumentTypeError(f"must be a positive number, got {text!r}")
     return value
 
 
-def _vertex_index(text):
+def parse_vertex_index(text):
+    """A 0-based vertex index from an option value (an ``argparse`` type): an integer in ``0..MAX_INDEX``.
+
+    Examples
+    --------
+    >>> parse_vertex_index("0")
+    0
+    >>> parse_vertex_index("-1")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: vertex indices are 0-based, got -1
+    """
     value = _parse(text, int, "a vertex index")
     if value < 0:
         raise argparse.ArgumentTypeError(f"vertex indices are 0-based, got {text}")
@@ -57,7 +79,18 @@ def _vertex_index(text):
     return value
 
 
-def _non_negative_int(text):
+def parse_non_negative_int(text):
+    """An integer >= 0 from an option value (an ``argparse`` type).
+
+    Examples
+    --------
+    >>> parse_non_negative_int("4")
+    4
+    >>> parse_non_negative_int("-2")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: must be >= 0, got '-2'
+    """
     value = _parse(text, int, "an integer")
     if value < 0:
         raise argparse.ArgumentTypeError(f"must be >= 0, got {text!r}")

@@ -34,7 +34,7 @@ from ..errors import InvalidMeshError
 from .arguments import settings_of
 from .inputs import check_sources, read_mesh_file
 from .outputs import UsageError, atomic_output, check_output_paths
-from .reporting import _stage
+from .reporting import timed_stage
 
 log = logging.getLogger("heatcore.apps.cli")
 
@@ -68,23 +68,23 @@ def run_logmap(args):
         if out.suffix.lower() not in LOGMAP_SUFFIXES:
             raise UsageError(f"output {out}: unknown extension {out.suffix!r}; use one of {', '.join(LOGMAP_SUFFIXES)}")
     check_output_paths(args.output, None, [args.mesh], args.overwrite)
-    with _stage("read mesh"):
+    with timed_stage("read mesh"):
         mesh = read_mesh_file(args.mesh, "triangle")
     log.info("triangle mesh: %d vertices", len(mesh.vertices))
     check_sources([args.source], len(mesh.vertices))
     settings = settings_of(args, "vector heat")  # the vector heat method's options and defaults
     try:
-        with _stage("precompute"):
+        with timed_stage("precompute"):
             solver = VectorHeatSolver(mesh.domain(settings.mesh), **settings.solver.keywords())
     except InvalidMeshError as exc:  # the arrays read are checked here: say which file they came from
         raise InvalidMeshError(f"{args.mesh}: {exc}") from exc
-    with _stage("query"):
+    with timed_stage("query"):
         uv = solver.log_map(args.source, reference=args.reference)
     radius = np.hypot(uv[:, 0], uv[:, 1])
     reached = np.isfinite(radius)
     log.info("log map: %d of %d vertices reached, radius up to %.6g", reached.sum(), len(radius),
              radius[reached].max() if reached.any() else 0.0)
-    with _stage("write"):
+    with timed_stage("write"):
         for out in args.output:
             write_log_map(out, mesh.vertices, mesh.surface, uv, args.source, args.colormap, args.isolines)
             print(f"wrote {out}")

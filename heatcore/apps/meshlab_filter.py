@@ -286,7 +286,16 @@ def _check_options(colormap, isolines, attribute, unreachable):
 
 
 def current_mesh(ms):
-    """The MeshSet's current mesh, compacted; :class:`~heatcore.errors.InvalidMeshError` when it has none."""
+    """The MeshSet's current mesh, compacted; :class:`~heatcore.errors.InvalidMeshError` when it has none.
+
+    Examples
+    --------
+    >>> import pymeshlab  # doctest: +SKIP
+    >>> current_mesh(pymeshlab.MeshSet())  # doctest: +SKIP
+    Traceback (most recent call last):
+    ...
+    heatcore.errors.InvalidMeshError: the MeshSet has no current mesh: load one first (...)
+    """
     try:
         mesh = ms.current_mesh()
     except Exception as exc:  # pymeshlab raises its own exception type for an empty MeshSet
@@ -355,6 +364,11 @@ def write_vertex_attribute(ms, mesh, name, values):
     numpy; an existing one is overwritten through MeshLab's expression filter,
     from a fresh scratch attribute (which stays: MeshLab cannot delete
     attributes; custom attributes are not saved to files).
+
+    Examples
+    --------
+    >>> mesh = current_mesh(ms)  # doctest: +SKIP
+    >>> write_vertex_attribute(ms, mesh, "geodesic", np.zeros(mesh.vertex_number()))  # doctest: +SKIP
     """
     values = np.ascontiguousarray(values, dtype=np.float64)
     if not _attribute_exists(mesh, name):

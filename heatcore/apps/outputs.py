@@ -109,7 +109,19 @@ def atomic_output(path):
         raise
 
 
-def _same_file(a, b):
+def same_file(a, b):
+    """Whether paths ``a`` and ``b`` name the same existing file (False when either does not exist).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> a = Path(tmp.name) / "a.ply"
+    >>> _ = a.write_text("ply")
+    >>> same_file(a, Path(tmp.name) / "." / "a.ply"), same_file(a, Path(tmp.name) / "b.ply")
+    (True, False)
+    >>> tmp.cleanup()
+    """
     try:
         return os.path.samefile(a, b)
     except OSError:  # one of them does not exist (yet): not the same file
@@ -163,10 +175,10 @@ def check_output_paths(outputs, png=None, inputs=(), overwrite=False, curves=Non
             raise UsageError(f"--isolines-out {curves}: the curves are an OBJ file; give a name ending in .obj")
         outputs.append(curves)
     for i, out in enumerate(outputs):
-        if any(out == other or _same_file(out, other) for other in outputs[:i]):
+        if any(out == other or same_file(out, other) for other in outputs[:i]):
             raise UsageError(f"output {out} is given twice")
         for source in inputs:
-            if not overwrite and _same_file(out, source):
+            if not overwrite and same_file(out, source):
                 raise UsageError(f"output {out} is an input of this command; "
                                  "write elsewhere, or pass --overwrite to replace it")
         if not out.parent.is_dir():

@@ -42,9 +42,9 @@ import numpy as np
 from ..errors import InvalidMeshError
 from ..io.curves import write_obj_curves
 from .arguments import add_common_options, add_solver_options, settings_of
-from .inputs import _vertex_index, read_mesh_file
-from .outputs import CliError, UsageError, _same_file, atomic_output
-from .reporting import _stage
+from .inputs import parse_vertex_index, read_mesh_file
+from .outputs import CliError, UsageError, atomic_output, same_file
+from .reporting import timed_stage
 
 log = logging.getLogger("heatcore.apps.cli")
 
@@ -74,7 +74,7 @@ def surface_point(text):
     argparse.ArgumentTypeError: a point inside a face is FACE:B0,B1,B2 (three barycentric coordinates), got '12:0.5,0.5'
     """
     if ":" not in text:
-        return _vertex_index(text)
+        return parse_vertex_index(text)
     face, _, coordinates = text.partition(":")
     try:
         bary = [float(x) for x in coordinates.split(",")]
@@ -92,8 +92,8 @@ def path_arguments(p):
 
     Examples
     --------
-    >>> from heatcore.apps.arguments import _Parser
-    >>> p = _Parser(prog="heatcore path")
+    >>> from heatcore.apps.arguments import OneLineErrorParser
+    >>> p = OneLineErrorParser(prog="heatcore path")
     >>> path_arguments(p)
     >>> args = p.parse_args(["spot.obj", "--from", "0", "--to", "5:0.2,0.3,0.5", "-o", "p.obj"])
     >>> args.source, args.target, args.output
@@ -131,21 +131,21 @@ def run_path(args):
     >>> tmp.cleanup()
     """
     _check_outputs(args.output, args.mesh, args.overwrite)
-    with _stage("read mesh"):
+    with timed_stage("read mesh"):
         mesh = read_mesh_file(args.mesh)
     from ..heat import HeatSolver
 
     settings = settings_of(args)  # the command line's options (no domain kind, no colours)
     try:
-        with _stage("precompute"):
+        with timed_stage("precompute"):
             solver = HeatSolver(mesh.domain(settings.mesh), settings.solver)
     except InvalidMeshError as exc:
         raise InvalidMeshError(f"{args.mesh}: {exc}") from exc
-    with _stage("path"):
+    with timed_stage("path"):
         path = solver.geodesic_path(args.source, args.target)
     points = f"{len(path)} points" if len(path) > 1 else "1 point"
     print(f"length {path.length:.10g} ({points})")
-    with _stage("write"):
+    with timed_stage("write"):
         for out in args.output:
             write_path(out, path.points, header=f"heatcore geodesic path from {_spec(args.source)} to "
                                                 f"{_spec(args.target)} on {Path(args.mesh).name}, length "
@@ -213,9 +213,9 @@ def _check_outputs(outputs, mesh, overwrite):
     for out in map(Path, outputs):
         if out.suffix.lower() not in PATH_SUFFIXES:
             raise UsageError(f"output {out}: unknown extension {out.suffix!r}; use one of {', '.join(PATH_SUFFIXES)}")
-        if any(out == other or _same_file(out, other) for other in seen):
+        if any(out == other or same_file(out, other) for other in seen):
             raise UsageError(f"output {out} is given twice")
-        if not overwrite and _same_file(out, mesh):
+        if not overwrite and same_file(out, mesh):
             raise UsageError(f"output {out} is the mesh file; write elsewhere, or pass --overwrite to replace it")
         if not out.parent.is_dir():
             raise CliError(f"cannot write {out}: folder {out.parent} does not exist")

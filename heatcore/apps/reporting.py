@@ -6,9 +6,9 @@ The ``heatcore`` command (:mod:`heatcore.apps.cli`) logs through the
 
 Examples
 --------
->>> _seconds(0.0123), _seconds(2.5)
+>>> format_seconds(0.0123), format_seconds(2.5)
 ('12.3 ms', '2.50 s')
->>> _summary(np.array([0.0, 1.5, np.inf]))
+>>> distance_summary(np.array([0.0, 1.5, np.inf]))
 'max distance 1.5, 1 vertices unreachable (inf)'
 """
 
@@ -23,8 +23,18 @@ from ..progress import DOMAIN_SHARE, Progress
 log = logging.getLogger("heatcore.apps.cli")
 
 
-class _stage:
-    """Context manager that logs ``<name>: <time>`` (stderr via the ``heatcore`` logger) and records it."""
+class timed_stage:
+    """Context manager that logs ``<name>: <time>`` (stderr via the ``heatcore`` logger) and records it.
+
+    The times of a run are in ``timed_stage.timings`` (name -> seconds).
+
+    Examples
+    --------
+    >>> with timed_stage("query"):
+    ...     pass
+    >>> timed_stage.timings["query"] < 1.0
+    True
+    """
 
     timings = {}
 
@@ -38,8 +48,8 @@ class _stage:
     def __exit__(self, exc_type, exc, tb):
         if exc_type is None:
             seconds = time.perf_counter() - self.start
-            _stage.timings[self.name] = seconds
-            log.info("%s: %s", self.name, _seconds(seconds))
+            timed_stage.timings[self.name] = seconds
+            log.info("%s: %s", self.name, format_seconds(seconds))
 
 
 #: Builds of meshes with at least this many vertices report each stage as it starts (they take seconds).
@@ -68,15 +78,29 @@ def build_progress(n_vertices):
     else:
         start = time.perf_counter()
         report = Progress(lambda fraction, message: log.info(
-            "%4.0f%% %s (%s)", 100 * fraction, message, _seconds(time.perf_counter() - start)))
+            "%4.0f%% %s (%s)", 100 * fraction, message, format_seconds(time.perf_counter() - start)))
     return report.part(0.0, DOMAIN_SHARE), report.part(DOMAIN_SHARE, 1.0)
 
 
-def _seconds(seconds):
+def format_seconds(seconds):
+    """A duration for a person: milliseconds below 0.1 s, else seconds.
+
+    Examples
+    --------
+    >>> format_seconds(0.0004), format_seconds(12.0)
+    ('0.4 ms', '12.00 s')
+    """
     return f"{seconds * 1000:.1f} ms" if seconds < 0.1 else f"{seconds:.2f} s"
 
 
-def _summary(d):
+def distance_summary(d):
+    """One line on a distance array: its largest finite value and how many vertices were not reached.
+
+    Examples
+    --------
+    >>> distance_summary(np.array([0.0, 2.0])), distance_summary(np.array([np.inf]))
+    ('max distance 2', 'no vertex reached, 1 vertices unreachable (inf)')
+    """
     finite = np.isfinite(d)
     text = f"max distance {d[finite].max():.6g}" if finite.any() else "no vertex reached"
     if not finite.all():
@@ -84,8 +108,21 @@ def _summary(d):
     return text
 
 
-class _StderrHandler(logging.Handler):
-    """Writes ``heatcore: message`` to the current ``sys.stderr`` (captured in tests)."""
+class StderrHandler(logging.Handler):
+    """Writes ``heatcore: message`` to the current ``sys.stderr`` (captured in tests).
+
+    Examples
+    --------
+    >>> import contextlib, io
+    >>> logger = logging.getLogger("heatcore.example")
+    >>> handler = StderrHandler()
+    >>> logger.addHandler(handler)
+    >>> with contextlib.redirect_stderr(io.StringIO()) as err:
+    ...     logger.warning("mesh has 2 duplicate faces")
+    >>> print(err.getvalue(), end="")
+    heatcore: mesh has 2 duplicate faces
+    >>> logger.removeHandler(handler)
+    """
 
     def emit(self, record):
         try:
@@ -94,5 +131,15 @@ class _StderrHandler(logging.Handler):
             self.handleError(record)
 
 
-def _show_warning(message, category, filename, lineno, file=None, line=None):
+def show_warning(message, category, filename, lineno, file=None, line=None):
+    """A :func:`warnings.showwarning` replacement: ``heatcore: warning: message`` on stderr, no source line.
+
+    Examples
+    --------
+    >>> import contextlib, io
+    >>> with contextlib.redirect_stderr(io.StringIO()) as err:
+    ...     show_warning("few vertices", UserWarning, "heat.py", 1)
+    >>> print(err.getvalue(), end="")
+    heatcore: warning: few vertices
+    """
     sys.stderr.write(f"heatcore: warning: {message}\n")

@@ -175,11 +175,11 @@ def _complex_cholmod(A):
     cvxopt = optional("cvxopt")
     if cvxopt is None:
         raise SolverError("backend 'supernodal' needs the cvxopt package: pip install 'heatcore[scale]'")
-    from .supernodal import _cvxopt_indices, cholmod_options
+    from .supernodal import cholmod_options, cvxopt_indices
 
     lower = sp.tril(A, format="coo")
     C = cvxopt.spmatrix(
-        cvxopt.matrix(lower.data.astype(np.complex128)), _cvxopt_indices(lower.row), _cvxopt_indices(lower.col), A.shape
+        cvxopt.matrix(lower.data.astype(np.complex128)), cvxopt_indices(lower.row), cvxopt_indices(lower.col), A.shape
     )
     try:
         with cholmod_options(supernodal=2, nmethods=0):

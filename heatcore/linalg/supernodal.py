@@ -83,8 +83,14 @@ def cholmod_options(**values):
                     options.pop(key, None)
 
 
-def _cvxopt_indices(a):
-    """An integer array as a cvxopt integer matrix (cvxopt's index width is platform dependent)."""
+def cvxopt_indices(a):
+    """An integer array as a cvxopt integer matrix (cvxopt's index width is platform dependent).
+
+    Examples
+    --------
+    >>> list(cvxopt_indices([2, 0, 1]))  # doctest: +SKIP
+    [2, 0, 1]
+    """
     cvxopt = _cvxopt()
     return cvxopt.matrix(np.asarray(a, dtype=np.asarray(cvxopt.matrix(0, (1, 1), "i")).dtype))
 
@@ -94,7 +100,7 @@ def _to_cvxopt(A):
     cvxopt = _cvxopt()
     lower = sp.tril(A, format="coo")
     return cvxopt.spmatrix(
-        cvxopt.matrix(lower.data.astype(np.float64)), _cvxopt_indices(lower.row), _cvxopt_indices(lower.col), A.shape
+        cvxopt.matrix(lower.data.astype(np.float64)), cvxopt_indices(lower.row), cvxopt_indices(lower.col), A.shape
     )
 
 
@@ -178,7 +184,7 @@ class SupernodalFactor(Factor):
                     cholmod.numeric(C, self._factor)
             else:
                 with cholmod_options(supernodal=2, nmethods=1):  # supernodal; the given ordering, no other tried
-                    self._factor = cholmod.symbolic(C, p=_cvxopt_indices(ordering.permutation), uplo="L")
+                    self._factor = cholmod.symbolic(C, p=cvxopt_indices(ordering.permutation), uplo="L")
                     cholmod.numeric(C, self._factor)
         except ArithmeticError as exc:
             raise SolverError(f"sparse Cholesky factorization failed: the matrix is not positive definite ({exc})") from exc

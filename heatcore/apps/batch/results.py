@@ -37,7 +37,21 @@ def block_name(start, stop, digest=None):
     return f"rows-{start:09d}-{stop:09d}" + (f"-{digest}" if digest else "") + ".npy"
 
 
-def _block_ok(path, rows, n):
+def block_is_complete(path, rows, n):
+    """Whether the block file ``path`` holds ``rows`` complete rows of ``n`` float64 distances.
+
+    A block that cannot be read (missing, truncated, not ``.npy``) is not complete.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> block = Path(tmp.name) / block_name(0, 2)
+    >>> np.save(block, np.zeros((2, 5)))
+    >>> block_is_complete(block, 2, 5), block_is_complete(block, 3, 5), block_is_complete(block.with_suffix(".x"), 2, 5)
+    (True, False, False)
+    >>> tmp.cleanup()
+    """
     try:
         block = np.load(path, mmap_mode="r")
     except (OSError, ValueError):
@@ -79,7 +93,7 @@ def check_result(out, key):
     if stored != key:
         return False, describe_difference(stored, key), info
     for a, b, path in blocks:
-        if not _block_ok(path, b - a, info["vertices"]):
+        if not block_is_complete(path, b - a, info["vertices"]):
             return False, f"block file {path.name} is missing or incomplete", info
     return True, "", info
 

@@ -45,7 +45,7 @@ from .keys import (  # noqa: F401 - re-exported
 )
 from .processes import pid_alive  # also re-exported: storage.pid_alive
 from .results import (  # noqa: F401 - re-exported: reading results back
-    _block_ok,
+    block_is_complete,
     block_name,
     check_result,
     iter_blocks,
@@ -261,7 +261,7 @@ class BlockWriter:
         done = set()
         for start in range(0, self.total, self.rows_per_block):
             stop = min(start + self.rows_per_block, self.total)
-            if _block_ok(self._path(start, stop), stop - start, self.n):
+            if block_is_complete(self._path(start, stop), stop - start, self.n):
                 done.update(range(start, stop))
         return done
 
@@ -278,7 +278,7 @@ class BlockWriter:
     def _flush(self):
         stop = self.start + self.filled
         name = self._path(self.start, stop)
-        if not _block_ok(name, self.filled, self.n):  # a complete block of this key is kept
+        if not block_is_complete(name, self.filled, self.n):  # a complete block of this key is kept
             block = self.buffer[: self.filled]
             save_atomic(name, lambda fh: np.save(fh, block))
         self.start = stop
