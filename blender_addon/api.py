@@ -18,7 +18,7 @@ import warnings
 from .outputs import DEFAULT_ATTRIBUTE, DEFAULT_COLOR_ATTRIBUTE, DEFAULT_WEIGHT_GROUP
 from .path_api import PathResult, geodesic_path
 from .stages import (
-    MESH_OPTIONS,
+    FRONT_END_OPTIONS,
     GeodesicResult,
     build_solver,
     finish_run,
@@ -31,7 +31,7 @@ __all__ = [
     "DEFAULT_ATTRIBUTE",
     "DEFAULT_COLOR_ATTRIBUTE",
     "DEFAULT_WEIGHT_GROUP",
-    "MESH_OPTIONS",
+    "FRONT_END_OPTIONS",
     "GeodesicResult",
     "PathResult",
     "compute_geodesic_distance",
@@ -157,9 +157,12 @@ def compute_geodesic_distance(
         panel's *Merge Coincident Vertices*, for meshes imported as triangle
         soup; a mesh with quads that has vertices to merge is then measured
         as its triangles), a tolerance those closer than it;
-        all others (``m``, ``boundary``, ``accuracy``, ``backend``, ...) to
-        :class:`heatcore.HeatSolver`. Options declared in ``heatcore.options``
-        are checked there first. ``time_factor`` is a deprecated name of
+        all others (``m``, ``boundary``, ``accuracy``, ``backend``) to
+        :class:`heatcore.HeatSolver`. They make the run's one
+        ``heatcore.settings.Settings`` (``Settings.of("blender", ...)``: each
+        value checked once, Blender's defaults for the others; an option the
+        Blender front end does not offer, ``FRONT_END_OPTIONS["blender"]``, is
+        an ``InvalidOptionError``). ``time_factor`` is a deprecated name of
         ``m`` (DeprecationWarning).
 
     Returns

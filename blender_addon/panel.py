@@ -2,7 +2,7 @@
 
 The main panel holds what a user chooses (sources, how to measure, the time
 factor, the accuracy, the outputs); the solver's technical settings
-(boundary condition, robust operators, linear-algebra backend, polygons,
+(boundary condition, robust operators, linear-algebra backend, polygons, refinement,
 *Merge Coincident Vertices*) are in the *Advanced* sub-panel, closed by default.
 """
 
@@ -93,7 +93,7 @@ class VIEW3D_PT_heat_geodesic_advanced(bpy.types.Panel):
     bl_options = {"DEFAULT_CLOSED"}
 
     #: The settings shown here, in order.
-    PROPERTIES = ("boundary", "robust", "backend", "polygons", "weld")
+    PROPERTIES = ("boundary", "robust", "backend", "polygons", "refine", "weld")
 
     def draw(self, context):
         layout = self.layout

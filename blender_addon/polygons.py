@@ -24,7 +24,7 @@ with a note to the user (``split_crossing=True``).
 
 Examples
 --------
->>> use_polygons("AUTO", bpy.data.meshes["Cube"], {"accuracy": "high"}, {"weld": None})  # doctest: +SKIP
+>>> use_polygons("AUTO", bpy.data.meshes["Cube"], Settings.of("blender", accuracy="high"))  # doctest: +SKIP
 False
 """
 
@@ -61,15 +61,15 @@ def has_ngons(mesh):
     return len(mesh.loops) > 3 * len(mesh.polygons)
 
 
-def use_polygons(choice, mesh, solver_options, mesh_options, *, points_later=False, offsets=None):
+def use_polygons(choice, mesh, settings, *, points_later=False, offsets=None):
     """Whether a run measures ``mesh`` as polygons (``heatcore.PolygonMesh``); see the module docstring.
 
     Parameters
     ----------
     choice : {"AUTO", "TRIANGULATE"}
     mesh : bpy.types.Mesh
-    solver_options, mesh_options : dict
-        The run's checked options (``accuracy``; ``weld``).
+    settings : heatcore.settings.Settings
+        The run's settings (``accuracy``; ``robust``, ``weld``).
     points_later : bool
         Sources placed on faces later (the probe, paths).
     offsets : int array, optional
@@ -78,34 +78,34 @@ def use_polygons(choice, mesh, solver_options, mesh_options, *, points_later=Fal
 
     Examples
     --------
-    >>> use_polygons("AUTO", bpy.data.meshes["Cube"], {}, {"weld": None})  # doctest: +SKIP
+    >>> use_polygons("AUTO", bpy.data.meshes["Cube"], Settings.of("blender"))  # doctest: +SKIP
     True
     """
     if check_polygons(choice) == "TRIANGULATE" or points_later:
         return False
-    if solver_options.get("accuracy", "smooth") == "high" or mesh_options.get("weld") or not mesh_options["robust"]:
+    if settings.solver.accuracy == "high" or settings.mesh.weld or not settings.mesh.robust:
         return False  # the eikonal pass, a weld tolerance, plain cotan operators: triangle options
     return has_ngons(mesh) if offsets is None else bool(np.diff(offsets).max(initial=0) > 3)
 
 
-def key_options(mesh_options, solver_options, as_polygons):
-    """The options part of a run's cache key: every option, and ``polygons=True`` for a polygon run.
+def key_options(settings, as_polygons, points_only=False):
+    """The options part of a run's cache key: every mesh and solver option, and ``polygons=True`` for a polygon run.
 
     :func:`~.stages.prepare_run` keys the solver with it and
     :func:`~.stages.check_unchanged` compares with it after a background
-    build: both must use this.
+    build: both must use this. A point cloud (``points_only``) is keyed by
+    the one mesh option it takes, ``refine``.
 
     Examples
     --------
-    >>> key_options({"refine": "auto"}, {"m": 1.0}, True)
-    {'refine': 'auto', 'm': 1.0, 'polygons': True}
-    >>> key_options({"refine": "auto"}, {"m": 1.0}, False)
-    {'refine': 'auto', 'm': 1.0}
+    >>> key_options(Settings.of("blender", refine=0), True)  # doctest: +SKIP
+    {'robust': True, 'refine': 0, 'weld': None, 'm': 1.0, 'boundary': 'robin', 'accuracy': 'smooth', 'backend': 'auto', 'polygons': True}
     """
-    return {**mesh_options, **solver_options, **({"polygons": True} if as_polygons else {})}
+    mesh = {"refine": settings.mesh.refine} if points_only else settings.mesh.keywords()
+    return {**mesh, **settings.solver.keywords(), **({"polygons": True} if as_polygons else {})}
 
 
-def polygon_domain(V, polygons, mesh_options, notes=None):
+def polygon_domain(V, polygons, mesh, notes=None):
     """``heatcore.PolygonMesh`` of the faces, or None where merging (``weld=0``) has vertices to merge (exact duplicates).
 
     Polygons whose sides cross (a bowtie) are measured as their fan
@@ -116,33 +116,35 @@ def polygon_domain(V, polygons, mesh_options, notes=None):
     ----------
     V : (n, 3) float array
     polygons : (offsets, indices)
-    mesh_options : dict
-        The run's ``robust``, ``refine``, ``weld``; ``refine`` goes to the PolygonMesh.
+    mesh : heatcore.settings.MeshSettings
+        The run's mesh options: ``weld`` decides, ``refine`` goes to the PolygonMesh
+        (which takes no other).
     notes : list of str, optional
 
     Examples
     --------
     >>> V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
-    >>> type(polygon_domain(V, (np.array([0, 4]), np.arange(4)), {"refine": 0, "weld": 0.0})).__name__  # doctest: +SKIP
+    >>> mesh = Settings.of("blender", refine=0, weld=0.0).mesh
+    >>> type(polygon_domain(V, (np.array([0, 4]), np.arange(4)), mesh)).__name__  # doctest: +SKIP
     'PolygonMesh'
-    >>> polygon_domain(V[[0, 1, 2, 2]], (np.array([0, 4]), np.arange(4)), {"refine": 0, "weld": 0.0}) is None  # doctest: +SKIP
+    >>> polygon_domain(V[[0, 1, 2, 2]], (np.array([0, 4]), np.arange(4)), mesh) is None  # doctest: +SKIP
     True
     """
     notes = [] if notes is None else notes
-    if mesh_options.get("weld") is not None:
+    if mesh.weld is not None:
         merged = len(V) - len(np.unique(V, axis=0))
         if merged:
             notes.append(f"measured as triangles, not polygons: {merged:,} vertices share their position with "
                          "another and are welded (Merge Coincident Vertices; polygons are not merged)")
             return None
     try:
-        return heatcore.PolygonMesh(V, polygons, refine=mesh_options["refine"])
+        return heatcore.PolygonMesh(V, polygons, refine=mesh.refine)
     except heatcore.InvalidMeshError as exc:  # checked before any refinement: a cheap first try
         if "cross themselves" not in str(exc):
             raise
         notes.append(str(exc).split("; polygon ")[0].replace("polygon(s)", "face(s)")
                      + ": measured as their fan triangles (fix them in Edit Mode to measure them as polygons)")
-    return heatcore.PolygonMesh(V, polygons, refine=mesh_options["refine"], split_crossing=True)
+    return heatcore.PolygonMesh(V, polygons, refine=mesh.refine, split_crossing=True)
 
 
 def polygon_arrays(mesh):

@@ -33,6 +33,7 @@ from .background import DONE, FAILED, RUNNING, BackgroundBuild
 from .cache import SOLVERS, geometry_key, same_key
 from .outputs import check_outputs, write_outputs
 from .overlay import Overlay, OverlayData, color_table
+from .polygons import key_options
 from .curves import path_available, write_probe_curves
 from .probe_surface import DisplayedSurface, displayed_positions
 from .stages import (
@@ -198,7 +199,7 @@ class GeodesicProbe:
         obj = self.object()
         run = self.run
         V, topology, _ = read_geometry(obj, run.space, run.shape)
-        key = geometry_key(V, topology, {**run.mesh_options, **run.solver_options}, copy=False)
+        key = geometry_key(V, topology, key_options(run.settings, run.as_polygons, run.points_only), copy=False)
         if not same_key(run.key, key) or not np.array_equal(displayed_positions(obj, run), self.surface.positions):
             when = "while its solver was being built" if built else "while the geodesic probe ran"
             raise AddonError(f"{obj.name!r} changed {when} (its shape or its vertices); nothing was written: "

@@ -1,13 +1,16 @@
 """The add-on's options (shared by the operator and the panel) and last-run statistics.
 
 :class:`GeodesicOptions` declares every option once; the operator and the
-scene settings shown in the panel both inherit it. heatcore's options
-(``m``, ``boundary``, ``accuracy``, ``robust``, ``backend``, ``weld``,
-``colormap``, ``isolines``, ``weight_radius``, ``weight_falloff``,
-``weight_invert``) are generated from ``heatcore.options`` by
-:func:`option_property`: the property name is the option's name, and its
-description, default, range and choices are the declared ones (the label may
-be friendlier). An option that may be None (``weight_radius``) declares the
+scene settings shown in the panel both inherit it. heatcore's options, those
+the Blender front end offers (``heatcore.settings.FRONT_END_OPTIONS["blender"]``:
+``m``, ``boundary``, ``accuracy``, ``backend``, ``robust``, ``refine``,
+``weld``, ``colormap``, ``isolines``, ``weight_radius``, ``weight_falloff``,
+``weight_invert``), are generated from ``heatcore.options`` by
+:func:`option_property`, one property per name of that table: the property
+name is the option's name, and its description, default, range and choices
+are the declared ones (the label may be friendlier). A number that also takes
+words (``refine``: ``"auto"`` or 0..8) is a menu of the words and the
+numbers. An option that may be None (``weight_radius``) declares the
 Blender value standing for None as its Blender default (0: the largest
 distance); :func:`option_value` turns it back into None. One declared as a
 switch (``weld``, *Merge Coincident Vertices*) is a Boolean: off is None (the
@@ -33,13 +36,13 @@ from .api import (
     DEFAULT_WEIGHT_GROUP,
     options,
 )
+from .stages import FRONT_END_OPTIONS
 from .uvmap import DEFAULT_UV_MAP
 
-#: heatcore options that are properties here, in panel order.
-HEATCORE_OPTIONS = ("m", "boundary", "accuracy", "robust", "backend", "weld", "colormap", "isolines",
-                    "weight_radius", "weight_falloff", "weight_invert")
-#: Of those, the ones passed to heatcore's domain and solver.
-SOLVER_OPTIONS = ("m", "boundary", "accuracy", "robust", "backend", "weld")
+#: heatcore options that are properties here: those the Blender front end offers, in the table's order.
+HEATCORE_OPTIONS = FRONT_END_OPTIONS["blender"]
+#: Of those, the ones that shape the domain and the solver (the others are outputs).
+SOLVER_OPTIONS = tuple(name for name in HEATCORE_OPTIONS if options.OPTIONS[name].target in ("mesh", "solver"))
 
 #: Enum labels that are not the choice capitalized (library names).
 CHOICE_LABELS = {"qdldl": "QDLDL", "cholmod": "CHOLMOD", "superlu": "SuperLU", "gpu": "GPU"}
@@ -81,6 +84,8 @@ def option_property(name, front_end="blender"):
     if opt.choices:
         items = [(c, CHOICE_LABELS.get(c, c.capitalize()), text) for c, text in zip(opt.choices, opt.choice_help)]
         return EnumProperty(items=items, **kw)
+    if opt.specials:  # words or whole numbers in a range (refine: "auto" or 0..8): a menu of them
+        return EnumProperty(items=special_items(opt), **kw)
     if opt.type is bool:
         return BoolProperty(**kw)
     low = _none_stand_in(opt) if opt.default is None else opt.ui_min if opt.low_open else opt.low
@@ -89,6 +94,19 @@ def option_property(name, front_end="blender"):
     if opt.type is int:
         return IntProperty(**kw, **limits)
     return FloatProperty(**kw, **limits)
+
+
+def special_items(opt):
+    """Enum items of an integer option that also takes words: the words, then ``low``..``high`` as text.
+
+    Examples
+    --------
+    >>> [item[0] for item in special_items(options.OPTIONS["refine"])][:3]  # doctest: +SKIP
+    ['auto', '0', '1']
+    """
+    words = [(word, word.capitalize(), f"{opt.ui_label or opt.label.title()}: {word} (see the description)")
+             for word in opt.specials]
+    return words + [(str(k), str(k), f"{opt.ui_label or opt.label.title()}: {k}") for k in range(opt.low, opt.high + 1)]
 
 
 def _none_stand_in(opt):
@@ -105,10 +123,14 @@ def option_value(name, value):
     (None, 2.5)
     >>> option_value("weld", False), option_value("weld", True)  # doctest: +SKIP
     (None, 0.0)
+    >>> option_value("refine", "auto"), option_value("refine", "3")  # doctest: +SKIP
+    ('auto', 3)
     """
     opt = options.OPTIONS[name]
     if opt.switch_help:
         return opt.default if value else None
+    if opt.specials and isinstance(value, str) and value not in opt.specials:  # a menu's number ("3")
+        return int(value)
     stand_in = _none_stand_in(opt)
     return None if stand_in is not None and value == stand_in else value
 
@@ -118,12 +140,6 @@ class GeodesicOptions:
 
     source: EnumProperty(name="Sources", items=SOURCE_ITEMS, default="SELECTED")
     vertex_group: StringProperty(name="Source Group", description="Vertex group whose members are the sources")
-    m: option_property("m")
-    boundary: option_property("boundary")
-    accuracy: option_property("accuracy")
-    robust: option_property("robust")
-    backend: option_property("backend")
-    weld: option_property("weld")
     polygons: EnumProperty(name="Polygons", items=POLYGON_ITEMS, default="AUTO")
     attribute: StringProperty(
         name="Attribute", description="FLOAT point attribute that receives the distance", default=DEFAULT_ATTRIBUTE
@@ -134,8 +150,6 @@ class GeodesicOptions:
         description="Color attribute that receives the colored distance (made active)",
         default=DEFAULT_COLOR_ATTRIBUTE,
     )
-    colormap: option_property("colormap")
-    isolines: option_property("isolines")
     write_weights: BoolProperty(
         name="Vertex Group Output",
         description="Also write weights to a vertex group (for modifiers): 1 at the sources falling to 0 at the "
@@ -147,9 +161,6 @@ class GeodesicOptions:
         description="Vertex group that receives the weights; it must not share its name with an attribute",
         default=DEFAULT_WEIGHT_GROUP,
     )
-    weight_radius: option_property("weight_radius")
-    weight_falloff: option_property("weight_falloff")
-    weight_invert: option_property("weight_invert")
     space: EnumProperty(name="Space", items=SPACE_ITEMS, default="WORLD")
     shape: EnumProperty(name="Shape", items=SHAPE_ITEMS, default="EVALUATED")
     new_object: BoolProperty(
@@ -208,8 +219,12 @@ class GeodesicOptions:
         )
 
     def solver_options(self):
-        """Options passed through to heatcore (``TriangleMesh`` / ``HeatSolver``)."""
+        """The domain's and the solver's options (:data:`SOLVER_OPTIONS`) as keywords of the script API."""
         return {name: option_value(name, getattr(self, name)) for name in SOLVER_OPTIONS}
+
+
+# Every option the Blender front end offers, one property each, generated from its declaration.
+GeodesicOptions.__annotations__.update({name: option_property(name) for name in HEATCORE_OPTIONS})
 
 
 UV_UP_ITEMS = [

@@ -39,10 +39,11 @@ from .shape import COPY_MARKER, evaluated_copy, measured_positions, nearest_vert
 #: ``heatcore.options``: every option's name, range, default and help (the bundled copy's).
 options = importlib.import_module(heatcore.__name__ + ".options")
 Progress = importlib.import_module(heatcore.__name__ + ".progress").Progress
-
-#: Options that shape the domain (``heatcore.TriangleMesh``), with their Blender defaults (``weld=None``: a
-#: Blender mesh is measured as it is connected, nothing merged); every other keyword goes to ``heatcore.HeatSolver``.
-MESH_OPTIONS = {name: options.OPTIONS[name].default_for("blender") for name in options.names("mesh")}
+_settings = importlib.import_module(heatcore.__name__ + ".settings")
+#: ``heatcore.settings.Settings``: one run's options, checked once (``Settings.of("blender", ...)``).
+Settings = _settings.Settings
+#: The options each front end offers (``FRONT_END_OPTIONS["blender"]``: the add-on's properties and keywords).
+FRONT_END_OPTIONS = _settings.FRONT_END_OPTIONS
 #: A run that reaches fewer than this share of the vertices, where at least this share of them share their
 #: position with another (a mesh imported as triangle soup), says that merging them would join the pieces.
 MERGE_HINT = (0.1, 0.25)
@@ -94,7 +95,7 @@ class GeodesicResult:
 
 @dataclass
 class PreparedRun:
-    """One run as read from Blender by :func:`prepare_run`: arrays and checked options.
+    """One run as read from Blender by :func:`prepare_run`: arrays and its settings.
 
     Building its solver needs no ``bpy`` (:func:`build_solver`). ``object_uid``
     and ``mesh_uid`` (``session_uid``) find the object again after a
@@ -110,7 +111,10 @@ class PreparedRun:
     applied) and ``sources`` the positions of the source vertices as
     displayed: the copy is made, and the sources mapped onto it, only when
     the result is written (:func:`finish_run`), so that a cancelled run makes
-    nothing.
+    nothing. ``settings`` is the run's one ``heatcore.settings.Settings``
+    (``Settings.of("blender", ...)``, built for reuse: the solver is cached),
+    whose mesh part builds the domain and solver part the solver;
+    ``points_only`` says that the mesh has no faces (a point cloud).
     """
 
     object_name: str
@@ -122,8 +126,7 @@ class PreparedRun:
     skipped_modifiers: list
     space: str
     shape: str
-    mesh_options: dict
-    solver_options: dict
+    settings: object
     outputs: dict
     key: tuple
     cache_id: object
@@ -132,6 +135,7 @@ class PreparedRun:
     new_object: bool = False
     polygons: object = None
     as_polygons: bool = False
+    points_only: bool = False
     solver: object = None
     cached: bool = False
     solver_seconds: float = 0.0
@@ -266,7 +270,7 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
     mesh = obj.data
     outputs = check_outputs(obj, source_group=vertex_group if sources is None else None,
                             **{k: run_options.pop(k) for k in OUTPUT_NAMES if k in run_options})
-    solver_options = options.check_all(_renamed(run_options))
+    settings = Settings.of("blender", **_renamed(run_options))  # Blender's defaults (weld off); kept for reuse
 
     progress(0.05, "reading mesh")
     if obj.mode == "EDIT":
@@ -286,17 +290,15 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
         notes.append(f"{obj.name}: distance measured without the modifiers that change its vertices "
                      f"({', '.join(skipped)}), on the deformed cage of its own vertices")
 
-    mesh_options = {k: solver_options.pop(k, default) for k, default in MESH_OPTIONS.items()}
-    as_polygons = use_polygons(polygons, mesh, solver_options, mesh_options, points_later=sources_later,
+    as_polygons = use_polygons(polygons, mesh, settings, points_later=sources_later,
                                offsets=topology[1] if new_object else None)
-    if not topology[0].size:  # no face corners (no triangles): a point cloud takes refine only
-        mesh_options = {"refine": mesh_options["refine"]}
-    domain_options = key_options(mesh_options, solver_options, as_polygons)
+    points_only = not topology[0].size  # no face corners (no triangles): a point cloud, which takes refine only
+    domain_options = key_options(settings, as_polygons, points_only)
     key = geometry_key(V, topology, domain_options, copy=False)
     run = PreparedRun(
         object_name=obj.name, object_uid=obj.session_uid, mesh_uid=mesh.session_uid, V=V, F=None, sources=src,
-        skipped_modifiers=skipped, space=space, shape=shape, mesh_options=mesh_options,
-        solver_options=solver_options, outputs=outputs, key=key, start=start, notes=notes, new_object=new_object,
+        skipped_modifiers=skipped, space=space, shape=shape, settings=settings, points_only=points_only,
+        outputs=outputs, key=key, start=start, notes=notes, new_object=new_object,
         cache_id=(COPY_MARKER, obj.session_uid) if new_object else ("polygons", mesh.session_uid) if as_polygons
         else mesh.session_uid, as_polygons=as_polygons,  # a mesh's polygon and triangle solvers: side by side
     )
@@ -321,12 +323,13 @@ def build_solver(run, progress=None):
     report = Progress(progress).part(*BUILD_RANGE)
     report(0.0, f"building the heat solver for {len(run.V):,} vertices")
     t0 = time.perf_counter()
-    domain = None if run.polygons is None else polygon_domain(run.V, run.polygons, run.mesh_options, run.notes)
+    mesh = run.settings.mesh
+    domain = None if run.polygons is None else polygon_domain(run.V, run.polygons, mesh, run.notes)
     if domain is None and run.F.shape[0]:
-        domain = heatcore.TriangleMesh(run.V, run.F, **run.mesh_options, progress=report.part(0.0, DOMAIN_SHARE))
-    elif domain is None:  # vertices only: a point cloud
-        domain = heatcore.PointCloud(run.V, **run.mesh_options)
-    solver = heatcore.HeatSolver(domain, **run.solver_options, progress=report.part(DOMAIN_SHARE, 1.0))
+        domain = heatcore.TriangleMesh(run.V, run.F, mesh, progress=report.part(0.0, DOMAIN_SHARE))
+    elif domain is None:  # vertices only: a point cloud (of the mesh options, it takes refine)
+        domain = heatcore.PointCloud(run.V, refine=mesh.refine)
+    solver = heatcore.HeatSolver(domain, run.settings.solver, progress=report.part(DOMAIN_SHARE, 1.0))
     run.solver_seconds = time.perf_counter() - t0
     run.solver = solver
     return solver
@@ -357,7 +360,7 @@ def check_unchanged(run):
     if obj is None:
         raise AddonError(f"{run.object_name!r} was deleted while its solver was being built; nothing was written")
     V, topology, _ = read_geometry(obj, run.space, run.shape, run.new_object)
-    options = key_options(run.mesh_options, run.solver_options, run.as_polygons)  # as prepare_run's key
+    options = key_options(run.settings, run.as_polygons, run.points_only)  # as prepare_run's key
     if not same_key(run.key, geometry_key(V, topology, options, copy=False)):
         raise AddonError(
             f"{obj.name!r} changed while its solver was being built (its shape or its vertices); "
@@ -389,7 +392,7 @@ def finish_run(run, progress=None, obj=None):
         sources = np.unique(nearest_vertices(obj, run.sources))
     progress(0.8, "solving for the distance")
     d = run.solver.distance(sources)
-    hint = merge_hint(run.V, d, run.mesh_options)
+    hint = None if run.points_only else merge_hint(run.V, d, run.settings.mesh.weld)
     if hint:
         run.notes.append(hint)
     progress(0.9, "writing attributes")
@@ -409,7 +412,7 @@ def finish_run(run, progress=None, obj=None):
     )
 
 
-def merge_hint(V, d, mesh_options):
+def merge_hint(V, d, weld):
     """A note naming *Merge Coincident Vertices* where the distance reached almost nothing of a soup; else None.
 
     Merging off (``weld=None``), the pieces of a mesh imported as triangle
@@ -422,12 +425,12 @@ def merge_hint(V, d, mesh_options):
     Examples
     --------
     >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]] * 20, float)
-    >>> merge_hint(V, np.r_[0.0, 1.0, 1.0, np.full(57, np.inf)], {"weld": None})[:34]
+    >>> merge_hint(V, np.r_[0.0, 1.0, 1.0, np.full(57, np.inf)], None)[:34]
     'the distance reaches 3 of 60 verti'
-    >>> merge_hint(V, np.r_[0.0, 1.0, 1.0, np.full(57, np.inf)], {"weld": 0.0}) is None
+    >>> merge_hint(V, np.r_[0.0, 1.0, 1.0, np.full(57, np.inf)], 0.0) is None
     True
     """
-    if mesh_options.get("weld", 0.0) is not None:  # merging on (or a point cloud, which takes no weld)
+    if weld is not None:  # merging on
         return None
     reached = int(np.isfinite(d).sum())
     if reached >= MERGE_HINT[0] * len(V):

@@ -24,10 +24,12 @@ from ._heatcore import heatcore
 from .adapters import AddonError
 from .operator import options_from_panel, poll_editable_mesh
 from .properties import SHAPE_ITEMS, SPACE_ITEMS, UVMapOptions, option_property, option_value
-from .uvmap import geodesic_uv_map
+from .uvmap import VECTOR_OPTIONS, geodesic_uv_map
 
+#: The UV map's solver and mesh options that are the distance's (all but ``accuracy``: ``uv_accuracy``).
+SOLVER_SHARED = tuple(name for name in VECTOR_OPTIONS if name != "accuracy")
 #: Settings of the distance that the UV map shares (copied from the panel when not set).
-SHARED = ("space", "shape", "m", "boundary", "robust", "backend", "weld")
+SHARED = ("space", "shape", *SOLVER_SHARED)
 
 
 def view_up(context):
@@ -58,11 +60,6 @@ class MESH_OT_heat_geodesic_uv_map(UVMapOptions, bpy.types.Operator):
                         description="Source vertex (-1: the active vertex in Edit Mode)")
     space: EnumProperty(name="Space", items=SPACE_ITEMS, default="WORLD")
     shape: EnumProperty(name="Shape", items=SHAPE_ITEMS, default="EVALUATED")
-    m: option_property("m")
-    boundary: option_property("boundary")
-    robust: option_property("robust")
-    backend: option_property("backend")
-    weld: option_property("weld")
     view_up: FloatVectorProperty(name="View Up", size=3, default=(0.0, 0.0, 0.0), options={"HIDDEN", "SKIP_SAVE"},
                                  description="The 3D View's up direction when invoked (zero: none)")
 
@@ -91,9 +88,8 @@ class MESH_OT_heat_geodesic_uv_map(UVMapOptions, bpy.types.Operator):
         try:
             result = geodesic_uv_map(
                 obj, None if self.vertex < 0 else self.vertex, name=self.uv_map, unit=self.uv_unit or None,
-                up=self.up_direction(context), space=self.space, shape=self.shape, m=self.m,
-                accuracy=self.uv_accuracy, boundary=self.boundary, robust=self.robust, backend=self.backend,
-                weld=option_value("weld", self.weld),
+                up=self.up_direction(context), space=self.space, shape=self.shape, accuracy=self.uv_accuracy,
+                **{name: option_value(name, getattr(self, name)) for name in SOLVER_SHARED},
             )
         except (AddonError, heatcore.HeatcoreError) as exc:
             self.report({"ERROR"}, str(exc))
@@ -102,3 +98,7 @@ class MESH_OT_heat_geodesic_uv_map(UVMapOptions, bpy.types.Operator):
         self.report({"INFO"}, f"UV map {result.name!r}: 1 UV unit = {result.unit:.4g}, farthest vertex "
                               f"{result.max_distance:.4g} from the source{missed}, {result.seconds:.2f} s")
         return {"FINISHED"}
+
+
+# The distance's options the UV map shares, one property each, generated from their declarations.
+MESH_OT_heat_geodesic_uv_map.__annotations__.update({name: option_property(name) for name in SOLVER_SHARED})

@@ -29,7 +29,8 @@ from ._heatcore import heatcore
 from .adapters import AddonError
 from .cache import SOLVERS, geometry_key
 from .shape import measured_positions
-from .stages import MESH_OPTIONS, options
+from .polygons import key_options
+from .stages import FRONT_END_OPTIONS, Settings, options
 
 #: The UV map's default name.
 DEFAULT_UV_MAP = "geodesic_uv"
@@ -39,8 +40,32 @@ UNREACHED_UV = (0.0, 0.0)
 MARKER = "heat_geodesic_uv_maps"
 #: Longest UV map name Blender keeps, in bytes.
 MAX_NAME = 63
-#: Solver options the vector heat method takes (besides the domain's ``MESH_OPTIONS``).
-VECTOR_OPTIONS = ("m", "boundary", "accuracy", "backend")
+#: The options the UV map takes: the Blender front end's mesh and solver options (the domain's and the
+#: :class:`heatcore.VectorHeatSolver`'s), with Blender's defaults (``weld`` off).
+VECTOR_OPTIONS = tuple(n for n in FRONT_END_OPTIONS["blender"] if options.OPTIONS[n].target in ("mesh", "solver"))
+#: But the radii are the eikonal pass's by default: the vector heat method's own default accuracy.
+UV_ACCURACY = options.OPTIONS["accuracy"].default_for("vector heat")
+
+
+def uv_settings(solver_options):
+    """The UV map's one ``heatcore.settings.Settings`` of its options (Blender's, and :data:`UV_ACCURACY`).
+
+    Raises
+    ------
+    AddonError
+        An option the UV map does not take (an output option of the distance).
+    heatcore.InvalidOptionError
+        A bad value.
+
+    Examples
+    --------
+    >>> uv_settings({"m": 2}).solver.accuracy, uv_settings({"accuracy": "smooth"}).mesh.weld  # doctest: +SKIP
+    ('high', None)
+    """
+    unknown = sorted(set(solver_options) - set(VECTOR_OPTIONS))
+    if unknown:
+        raise AddonError(f"the UV map takes the options {', '.join(VECTOR_OPTIONS)}; not {', '.join(unknown)}")
+    return Settings.of("blender", **{"accuracy": UV_ACCURACY, **solver_options})
 
 
 @dataclass
@@ -160,28 +185,22 @@ def edge_direction(obj, vertex, V):
     return V[other] - V[vertex]
 
 
-def _solver(obj, V, topology, solver_options):
-    """The mesh's cached :class:`heatcore.VectorHeatSolver` for this geometry and these options (built on a miss)."""
-    solver_options = options.check_all(dict(solver_options))
-    unknown = sorted(set(solver_options) - set(MESH_OPTIONS) - set(VECTOR_OPTIONS))
-    if unknown:
-        raise AddonError(f"the UV map takes the options {', '.join((*MESH_OPTIONS, *VECTOR_OPTIONS))}; "
-                         f"not {', '.join(unknown)}")
-    mesh_options = {k: solver_options.pop(k, default) for k, default in MESH_OPTIONS.items()}
-    given = {**mesh_options, **solver_options}
+def _solver(obj, V, topology, settings):
+    """The mesh's cached :class:`heatcore.VectorHeatSolver` for this geometry and these settings (built on a miss)."""
+    given = key_options(settings, False)
 
     def build():
         # The distance's solver of this geometry, if cached, has the domain (and its scalar factorizations):
-        # looked up with these options, and with the mesh's alone (a distance run with the default options).
-        full = {**given, **{k: v for k, v in options.defaults("solver").items() if k not in given}}
-        keys = (given, full, mesh_options, {**mesh_options, **options.defaults("solver")})
+        # looked up with these settings, and with the same mesh options and the distance's default solver options.
+        default_solver = Settings.of("blender", **{k: getattr(settings.mesh, k) for k in settings.mesh.given})
+        keys = (given, key_options(default_solver, False))
         distance = next((found for found in (SOLVERS.lookup(obj.data.session_uid, geometry_key(V, topology, o, False))
                                              for o in keys) if found is not None), None)
         if distance is not None:
             domain = distance.domain
         else:
-            domain = heatcore.TriangleMesh(V, adapters.mesh_arrays(obj.data)[1], **mesh_options)
-        return heatcore.VectorHeatSolver(domain, **solver_options)
+            domain = heatcore.TriangleMesh(V, adapters.mesh_arrays(obj.data)[1], settings.mesh)
+        return heatcore.VectorHeatSolver(domain, **settings.solver.keywords())
 
     return SOLVERS.get(("uv map", obj.data.session_uid), V, topology, given, build)
 
@@ -273,7 +292,9 @@ def geodesic_uv_map(obj, vertex=None, *, point=None, name=DEFAULT_UV_MAP, unit=N
         Which shape is measured, as in :func:`compute_geodesic_distance`.
     **solver_options
         ``robust``, ``refine``, ``weld`` (the domain) and ``m``, ``boundary``,
-        ``accuracy``, ``backend`` (:class:`heatcore.VectorHeatSolver`).
+        ``accuracy``, ``backend`` (:class:`heatcore.VectorHeatSolver`):
+        :data:`VECTOR_OPTIONS`, made one ``Settings`` (:func:`uv_settings`:
+        Blender's defaults, and ``accuracy="high"``).
 
     Returns
     -------
@@ -294,6 +315,7 @@ def geodesic_uv_map(obj, vertex=None, *, point=None, name=DEFAULT_UV_MAP, unit=N
     start = time.perf_counter()
     if obj is None or getattr(obj, "type", None) != "MESH":
         raise AddonError(f"{getattr(obj, 'name', obj)!r} is not a mesh object")
+    settings = uv_settings(solver_options)
     check_uv_name(obj, name)
     if unit is not None and not (np.isfinite(unit) and unit >= 0):
         raise AddonError(f"the UV unit must be a positive length (0: fit the map), got {unit}")
@@ -321,8 +343,7 @@ def geodesic_uv_map(obj, vertex=None, *, point=None, name=DEFAULT_UV_MAP, unit=N
         reference = _to_space(obj, up, space)
     if not np.all(np.isfinite(reference)) or not np.any(reference):
         raise AddonError(f"the up direction must be a nonzero vector, got {tuple(np.ravel(up))}")
-    solver, cached = _solver(obj, V, (*adapters.topology(obj.data), adapters.vertex_positions(obj.data)),
-                             solver_options)
+    solver, cached = _solver(obj, V, (*adapters.topology(obj.data), adapters.vertex_positions(obj.data)), settings)
     try:
         if vertex is not None:
             log_map = solver.log_map(int(vertex), reference=reference)

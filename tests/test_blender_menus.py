@@ -255,7 +255,7 @@ def test_advanced_subpanel_is_closed_and_holds_the_solver_jargon(addon):
     assert advanced.bl_category == "Geodesic" and advanced.bl_region_type == "UI"
     labels = drawn_properties(addon)
     assert {n for n, label in labels.items() if label.startswith("Advanced")} == {"boundary", "robust", "backend", "polygons",
-                                                                                "weld"}
+                                                                                "refine", "weld"}
     assert not labels["m"].startswith("Advanced") and not labels["accuracy"].startswith("Advanced")
     # Every option of the operator is in one of the two panels.
     assert set(labels) == set(addon.properties.GeodesicOptions.__annotations__)
@@ -270,7 +270,7 @@ def test_backend_is_passed_to_the_solver(addon):
     stats = bpy.context.window_manager.heat_geodesic_stats
     assert not stats.cached  # another backend is another solver
     (_, solver), = [e for k, e in addon.SOLVERS._entries.items() if k == obj.data.session_uid]
-    assert solver._backend == "superlu"
+    assert solver.settings.backend == "superlu" and solver.settings.intent == "reuse"  # kept for many queries
     d = attribute(obj.data, "geodesic_distance")
     V = np.array([v.co for v in obj.data.vertices])
     obj.data.calc_loop_triangles()

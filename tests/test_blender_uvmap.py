@@ -350,7 +350,7 @@ def test_every_uv_option_is_drawn_in_the_panel_and_documented(addon):
     keywords = {re.sub("`", "", r["Script keyword"]) for r in rows if r["Script keyword"] != "—"}
     signature = inspect.signature(addon.geodesic_uv_map).parameters
     explicit = {n for n, p in signature.items() if n != "obj" and p.kind != p.VAR_KEYWORD}
-    assert keywords == explicit | set(addon.uvmap.VECTOR_OPTIONS) | {"robust", "weld"}  # **solver_options: those named
+    assert keywords == explicit | set(addon.uvmap.VECTOR_OPTIONS)  # **solver_options: the front end's mesh and solver
     for row in rows:
         if row["Property"] in (f"`{n}`" for n in options):
             prop = addon.properties.UVMapOptions.__annotations__[row["Property"].strip("`")]

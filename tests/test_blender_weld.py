@@ -162,7 +162,7 @@ def test_uv_map_and_probe_follow_the_option(addon):  # noqa: F811
     uv = np.array([loop.uv[:] for loop in obj.data.uv_layers["geodesic_uv"].data])
     assert not (uv == 0.0).all(axis=1).any()  # unreached corners would be at (0, 0)
     probe = addon.GeodesicProbe(obj)
-    assert probe.run.mesh_options["weld"] is None
+    assert probe.run.settings.mesh.weld is None
     assert np.isinf(probe.move_to(0, (0.2, 0.3, 0.5))[8:]).all()
     probe.cancel()
     probe = addon.GeodesicProbe(obj, weld=0.0)

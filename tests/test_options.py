@@ -310,6 +310,12 @@ def test_blender_properties_are_the_declared_ones(blender_properties):
             assert prop.function is bpy.props.EnumProperty
             assert [item[0] for item in kw["items"]] == list(opt.choices)
             assert [item[2] for item in kw["items"]] == list(opt.choice_help)
+        elif opt.specials:  # words or the numbers of the range (refine: "auto" or 0..8), each back to its value
+            assert prop.function is bpy.props.EnumProperty, name
+            values = [*opt.specials, *range(opt.low, opt.high + 1)]
+            assert [item[0] for item in kw["items"]] == [str(v) for v in values], name
+            assert [blender_properties.option_value(name, item[0]) for item in kw["items"]] == values, name
+            assert all(opt.check(v) == v for v in values), name
         elif opt.type is bool:
             assert prop.function is bpy.props.BoolProperty
         else:
@@ -322,6 +328,7 @@ def test_blender_properties_are_the_declared_ones(blender_properties):
             else:
                 assert (low > opt.low and low == opt.ui_min) if opt.low_open else low == opt.low, name
             assert kw.get("max") == opt.high and kw.get("soft_max") == opt.soft_max, name
+    assert declared == list(FRONT_END_OPTIONS["blender"])  # every option the Blender front end offers
     assert set(blender_properties.SOLVER_OPTIONS) <= set(declared)
     assert all(OPTIONS[n].target in ("mesh", "solver") for n in blender_properties.SOLVER_OPTIONS)
 
