@@ -200,7 +200,7 @@ def _solver(obj, V, topology, settings):
             domain = distance.domain
         else:
             domain = heatcore.TriangleMesh(V, adapters.mesh_arrays(obj.data)[1], settings.mesh)
-        return heatcore.VectorHeatSolver(domain, **settings.solver.keywords())
+        return heatcore.VectorHeatSolver(domain, settings.solver)
 
     return SOLVERS.get(("uv map", obj.data.session_uid), V, topology, given, build)
 

@@ -75,7 +75,7 @@ def run_logmap(args):
     settings = settings_of(args, "vector heat")  # the vector heat method's options and defaults
     try:
         with timed_stage("precompute"):
-            solver = VectorHeatSolver(mesh.domain(settings.mesh), **settings.solver.keywords())
+            solver = VectorHeatSolver(mesh.domain(settings.mesh), settings.solver)
     except InvalidMeshError as exc:  # the arrays read are checked here: say which file they came from
         raise InvalidMeshError(f"{args.mesh}: {exc}") from exc
     with timed_stage("query"):

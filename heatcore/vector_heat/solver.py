@@ -32,16 +32,17 @@ from ..errors import InvalidMeshError, InvalidSourceError
 from ..heat import HeatSolver, domain_factors
 from ..linalg import solve_columns
 from ..linalg.hermitian import factor_hermitian
-from ..options import OPTIONS
+from ..settings import SolverSettings
 from .basis import tangent_frames
 from .connection import connection_laplacian, translation_matrix
 from .frames import vertex_frames
 from .logmap import flow_angle, log_coordinates, point_offsets, source_impulse
 from .sources import reference_angle, single_source, tangent_sources
 
-#: The log map's radius is the eikonal pass's distance by default (``heatcore.options``: "vector heat"):
-#: a decal is placed once, and its radii are 0.08% off on an icosphere where the smooth distance's are 0.5%.
-ACCURACY = OPTIONS["accuracy"].default_for("vector heat")
+#: Whose defaults fill the options not given (``heatcore.options``: the log map's radius is the eikonal pass's
+#: distance by default: a decal is placed once, and its radii are 0.08% off on an icosphere where the smooth
+#: distance's are 0.5%).
+FRONT_END = "vector heat"
 
 
 class TangentBasis(NamedTuple):
@@ -71,6 +72,11 @@ class VectorHeatSolver:
     domain : TriangleMesh
         Its intrinsic Delaunay triangulation (refined as the domain was
         built: ``refine="auto"`` by default) carries every operator.
+    settings : SolverSettings or Settings, optional
+        The solver options as a front end hands them over
+        (:mod:`heatcore.settings`: ``Settings.of("vector heat", ...)``); the
+        keywords below (checked once) change them. Without, the keywords
+        build them with the vector heat method's defaults.
     m : float, default 1.0
         Time factor, ``t = m h^2`` as in :class:`~heatcore.HeatSolver`
         (the same ``t`` for the vector and the scalar heat flows).
@@ -86,6 +92,7 @@ class VectorHeatSolver:
     Attributes
     ----------
     domain : TriangleMesh
+    settings : SolverSettings
     accuracy : {"smooth", "high"}
     distance_solver : HeatSolver
         The scalar heat method on the same domain (radii, magnitudes).
@@ -111,14 +118,17 @@ class VectorHeatSolver:
     True
     """
 
-    def __init__(self, domain, *, m=1.0, boundary="robin", accuracy=ACCURACY, backend="auto"):
+    def __init__(self, domain, settings=None, **options):
+        settings = SolverSettings(FRONT_END, **options) if settings is None else SolverSettings.of(settings, **options)
         if not isinstance(domain, TriangleMesh):
             raise InvalidMeshError(
                 f"the vector heat method runs on triangle meshes (TriangleMesh), not on a {domain.domain_name}"
             )
         self.domain = domain
-        self.accuracy = accuracy
-        self.distance_solver = HeatSolver(domain, m=m, boundary=boundary, accuracy=accuracy, backend=backend)
+        self.settings = settings
+        self.accuracy = settings.accuracy
+        backend = settings.backend
+        self.distance_solver = HeatSolver(domain, settings)
         self.timings = dict(self.distance_solver.timings)
         start = time.perf_counter()
         cache = domain_factors(domain)
