@@ -130,8 +130,8 @@ def test_one_query_uses_the_fastest_factorization(monkeypatch):
     original = hc.HeatSolver.__init__
 
     def spy(self, *args, **kw):
-        chosen.append(kw["backend"])
         original(self, *args, **kw)
+        chosen.append(self.factors.heat_backend)  # the backend "auto" became
 
     monkeypatch.setattr(hc.HeatSolver, "__init__", spy)
     d = hc.geodesic_distance(V, F, [0], refine=0)
@@ -169,3 +169,27 @@ def test_large_matrix_without_cvxopt_falls_back_and_hints_once(monkeypatch, capl
     assert len(hints) == 1
     with pytest.raises(hc.SolverError, match="scale"):
         linalg.factor(heat_matrix(4, 4), "supernodal")
+
+
+def test_resolve_backend_takes_an_intent():
+    """'one query': the fastest factorization for both matrices; 'reuse': each stage its own; a name passes."""
+    for n in (1000, linalg.SUPERNODAL_MIN_SIZE):
+        for stage in ("factor", "solve"):
+            assert linalg.resolve_backend("auto", n, intent="one query", stage=stage) == linalg.choose_backend(n, "once")
+            assert linalg.resolve_backend("auto", n, intent="reuse", stage=stage) == linalg.choose_backend(n, stage)
+            assert linalg.resolve_backend("superlu", n, intent="one query", stage=stage) == "superlu"
+    assert linalg.resolve_backend("auto", 1000) == linalg.choose_backend(1000, "factor")
+    with pytest.raises(hc.InvalidOptionError, match="intent"):
+        linalg.resolve_backend("auto", 10, intent="once")
+    with pytest.raises(hc.InvalidOptionError, match="stage"):
+        linalg.resolve_backend("auto", 10, stage="once")
+
+
+def test_backends_import_the_interface_not_the_factor_module():
+    """No cycle: the backend modules (gpu among them) subclass Factor from linalg.interface."""
+    from heatcore.linalg import cholmod, gpu, interface, qdldl, superlu, supernodal
+
+    for module in (cholmod, gpu, qdldl, superlu, supernodal):
+        assert "heatcore.linalg.factor" not in {getattr(v, "__module__", None) for v in vars(module).values()
+                                                if isinstance(v, type) or callable(v)}
+    assert gpu.GPUFactor.__mro__[1] is interface.Factor is linalg.Factor

@@ -19,13 +19,17 @@
 unknowns up, where factoring dominates. Below, ``prefer="factor"`` (a matrix
 that is rebuilt often) picks qdldl and ``prefer="solve"`` (a matrix kept for
 many solves) picks ``cholmod``, whose solves are 1.5x faster than
-``supernodal``'s.
+``supernodal``'s. A caller says what it means to do, not which rule applies:
+``resolve_backend(backend, n, intent=..., stage=...)`` (``intent`` "reuse"
+or "one query") gives the backend of each matrix.
 
 Factor once, solve many times: every backend's :meth:`Factor.solve` accepts
 one right-hand side ``(n,)`` or several ``(n, k)``.
 
-Modules: :mod:`~heatcore.linalg.factor` (the :class:`Factor` interface and the
-backend choice); one per backend (:mod:`~heatcore.linalg.supernodal`,
+Modules: :mod:`~heatcore.linalg.interface` (the :class:`Factor` interface),
+:mod:`~heatcore.linalg.backends` (the backend choice),
+:mod:`~heatcore.linalg.factor` (:func:`factor`, which imports the backends);
+one per backend (:mod:`~heatcore.linalg.supernodal`,
 :mod:`~heatcore.linalg.qdldl`, :mod:`~heatcore.linalg.cholmod`,
 :mod:`~heatcore.linalg.superlu`); :mod:`~heatcore.linalg.ordering`;
 :mod:`~heatcore.linalg.metis` and :mod:`~heatcore.linalg.sparse_rhs` (the two
@@ -33,7 +37,9 @@ readers of another library's internals, through ctypes: the only ones in
 heatcore); :mod:`~heatcore.linalg.memory`; :mod:`~heatcore.linalg.libraries`
 (optional libraries loaded on first use, the versions the readers know, the
 fast-path counters). Importing this package loads no optional library, opens
-no shared library and starts no thread. The size thresholds exported here are
+no shared library and starts no thread; linalg keeps nothing per matrix or
+domain (what is derived from a domain lives in its own cache,
+:class:`heatcore.domains.derived.DerivedCache`). The size thresholds exported here are
 copies for reading: set them on their modules (for example
 ``heatcore.linalg.ordering.NESTED_DISSECTION_MIN_SIZE``). The name ``factor``
 here is the function; the module is ``sys.modules["heatcore.linalg.factor"]``.
@@ -46,16 +52,17 @@ Examples
 array([1., 1.])
 """
 
-from .factor import (
+from .backends import (
     QDLDL_MAX_SIZE,
     SUPERNODAL_MIN_SIZE,
-    Factor,
     available_backends,
     choose_backend,
     one_query_backend,
-    factor,
+    resolve_backend,
 )
 from .columns import solve_columns
+from .factor import factor
+from .interface import Factor
 from .memory import release_free_memory
 from .ordering import (
     NESTED_DISSECTION_MIN_SIZE,
@@ -73,10 +80,11 @@ __all__ = [
     "Ordering",
     "available_backends",
     "choose_backend",
-    "one_query_backend",
     "factor",
     "fill_reducing_ordering",
+    "one_query_backend",
     "release_free_memory",
+    "resolve_backend",
     "restrict_ordering",
     "solve_columns",
     "start_nested_dissection",

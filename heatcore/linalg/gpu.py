@@ -16,7 +16,7 @@ Examples
 The GPU where there is one, else the CPU's best:
 
 >>> import scipy.sparse as sp
->>> from heatcore.linalg import available_backends
+>>> from heatcore.linalg import available_backends, factor
 >>> backend = "gpu" if "gpu" in available_backends() else "auto"
 >>> factor(sp.diags([2.0, 4.0]).tocsr(), backend).solve([2.0, 4.0]).round(12).tolist()
 [1.0, 1.0]
@@ -30,7 +30,7 @@ import weakref
 import numpy as np
 
 from ..errors import SolverError
-from .factor import Factor, canonical_csr, factor  # noqa: F401 (factor: in the examples)
+from .interface import Factor, canonical_csr
 from .libraries import optional
 
 
@@ -90,6 +90,7 @@ class GPUFactor(Factor):
     Examples
     --------
     >>> import scipy.sparse as sp
+    >>> from heatcore.linalg import factor
     >>> A = sp.csr_matrix([[4.0, 1.0], [1.0, 3.0]])
     >>> if gpu_count():
     ...     x = GPUFactor(A).solve([5.0, 4.0])

@@ -40,8 +40,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import SolverError
+from .backends import available_backends
 from .columns import solve_columns
-from .factor import available_backends, factor
+from .factor import factor
 from .libraries import optional
 
 

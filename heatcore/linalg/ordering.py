@@ -31,7 +31,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from . import metis
-from .factor import canonical_csr
+from .interface import canonical_csr
 from .libraries import once
 
 #: From this many unknowns up :func:`start_nested_dissection` orders by METIS (see there).

@@ -17,7 +17,7 @@ True
 import scipy.sparse as sp
 
 from ..errors import SolverError
-from .factor import Factor
+from .interface import Factor
 from .libraries import optional
 
 

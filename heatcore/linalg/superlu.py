@@ -17,7 +17,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..errors import SolverError
-from .factor import Factor
+from .interface import Factor
 
 
 class SuperLUFactor(Factor):

@@ -28,7 +28,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import SolverError
-from .factor import SUPERNODAL_MIN_SIZE, Factor, canonical_csr
+from .backends import SUPERNODAL_MIN_SIZE
+from .interface import Factor, canonical_csr
 from .libraries import optional
 from .memory import release_free_memory
 from .sparse_rhs import SparseForwardSolver
