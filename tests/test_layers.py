@@ -1,7 +1,12 @@
 """The house rules of docs/design.md ("Layout"), checked on the working tree.
 
 - no import cycle among the modules of ``heatcore/`` and ``blender_addon/``
-  (function-level imports included: they close cycles at run time);
+  (function-level imports included: they close cycles at run time, and
+  ``importlib.import_module`` calls, relative ones too);
+- every ``import_module`` call names its module in the source (one loader of
+  third-party libraries excepted, :data:`DYNAMIC_IMPORTS`);
+- no module uses another module's private name (``from m import _name``,
+  ``m._name``, ``import_module("m")._name``);
 - no import arrow up the layers or between sibling groups, and the fences
   (domains import no linalg backend), per ``scripts/import_graph.py``;
 - every module belongs to a layer;
@@ -20,6 +25,7 @@ The examples themselves run as doctests (``--doctest-modules``).
 """
 
 import ast
+import doctest
 import importlib.util
 import io
 import re
@@ -57,6 +63,40 @@ def graph(sources):
 def test_no_import_cycle(graph):
     cycles = import_graph.find_cycles(graph)
     assert not cycles, "import cycles: " + "; ".join(" -> ".join(c + [c[0]]) for c in cycles)
+
+
+#: ``import_module`` calls whose module the source does not spell, and why each may stay so.
+DYNAMIC_IMPORTS = {
+    ("heatcore.linalg.libraries", "importlib.import_module(name)"):
+        "optional() imports the third-party library its caller names (cvxopt, qdldl, cholespy, nvmath, ...)",
+    ("heatcore.linalg.libraries", "importlib.import_module(submodule)"):
+        "the submodules that library needs first (SUBMODULES); none is a heatcore module",
+}
+
+
+def test_importlib_imports_are_arrows(graph):
+    # each of these is made only through importlib.import_module (relative, or heatcore.__name__ + ".sub")
+    for arrow in [("heatcore.linalg.factor", "heatcore.linalg.gpu"), ("heatcore.linalg.factor", "heatcore.linalg.qdldl"),
+                  ("blender_addon.stages", "heatcore.options"), ("blender_addon.stages", "heatcore.progress"),
+                  ("blender_addon._heatcore", "heatcore.viz.colormap"), ("blender_addon.path_api", "heatcore.paths")]:
+        assert arrow in graph.edges, f"{arrow[0]} -> {arrow[1]} (through importlib) is not in the graph"
+
+
+def test_every_import_module_call_is_read(graph):
+    unread = [f"{graph.modules[m]}:{line} {call}" for m, line, call in graph.dynamic if (m, call) not in DYNAMIC_IMPORTS]
+    assert not unread, "import_module calls whose module the checker cannot read:\n" + "\n".join(unread)
+
+
+def test_no_module_uses_another_modules_private_name(graph):
+    assert not graph.private, "private names used outside their module:\n" + "\n".join(
+        f"  {graph.modules[m]}:{line} uses {other}.{name}" for m, other, name, line in graph.private
+    )
+
+
+def test_the_checker_examples_run():
+    for module in (import_graph, sys.modules["import_reader"]):
+        result = doctest.testmod(module)
+        assert result.attempted and not result.failed, module.__name__
 
 
 def test_no_upward_arrow(graph):
@@ -213,6 +253,40 @@ def test_the_checks_catch_planted_violations():
     assert import_graph.fenced_externals(ctypes_outside) == [("heatcore.apps.cli", "ctypes", [2])]
 
     assert import_graph.unlayered(_planted({"heatcore/misc.py": ""})) == ["heatcore.misc"]
+
+
+def test_importlib_and_private_checks_catch_planted_violations():
+    # the factor <-> gpu cycle of c07dd69: gpu imports factor, factor imports gpu through importlib
+    cyclic = _planted({
+        "heatcore/linalg/factor.py": "import importlib\nBACKENDS = {'gpu': ('gpu', 'GPUFactor')}\n"
+                                     "def gpu_count():\n    return importlib.import_module('.gpu', __package__).count()\n"
+                                     "def factor(backend):\n    module, cls = BACKENDS[backend]\n"
+                                     "    return getattr(importlib.import_module(f'.{module}', __package__), cls)\n",
+        "heatcore/linalg/gpu.py": "from .factor import Factor\n",
+    })
+    assert import_graph.find_cycles(cyclic) == [["heatcore.linalg.factor", "heatcore.linalg.gpu"]]
+    assert cyclic.edges[("heatcore.linalg.factor", "heatcore.linalg.gpu")] == [4, 7]
+
+    blender = _planted({"blender_addon/__init__.py": "", "blender_addon/_heatcore.py": "import heatcore\n",
+                        "blender_addon/stages.py": "import importlib\nfrom ._heatcore import heatcore\n"
+                                                   "errors = importlib.import_module(heatcore.__name__ + '.errors')\n"
+                                                   "def f(name):\n    return importlib.import_module(f'.{name}', __package__)\n"})
+    assert ("blender_addon.stages", "heatcore.errors") in blender.edges
+    assert blender.dynamic == [("blender_addon.stages", 5, "importlib.import_module(f'.{name}', __package__)")]
+
+    # the private imports of a342800 (apps/cli.py, linalg/hermitian.py) and the other ways to reach one
+    private = _planted({
+        "heatcore/apps/reporting.py": "class _stage: pass\n",
+        "heatcore/apps/cli.py": "from .reporting import _stage, build_progress\nfrom . import reporting\n"
+                                "reporting._stage\nimport importlib\nimportlib.import_module('heatcore.heat')._solve\n"
+                                "reporting.__name__\n",
+        "heatcore/linalg/hermitian.py": "def f():\n    from .cholmod import _indices\n",
+    })
+    assert private.private == [("heatcore.apps.cli", "heatcore.apps.reporting", "_stage", 1),
+                               ("heatcore.apps.cli", "heatcore.apps.reporting", "_stage", 3),
+                               ("heatcore.apps.cli", "heatcore.heat", "_solve", 5),
+                               ("heatcore.linalg.hermitian", "heatcore.linalg.cholmod", "_indices", 2)]
+    assert not _planted({}).private and not _planted({}).dynamic
 
 
 def test_docstring_check_catches_planted_violations():
