@@ -21,12 +21,11 @@ True
 import logging
 
 from ..errors import InvalidOptionError, SolverError
+from ..settings import INTENTS
 from .libraries import optional, warn_once
 
 log = logging.getLogger(__name__)
 
-#: What a caller means to do with a factorization (as :data:`heatcore.settings.INTENTS`).
-INTENTS = ("reuse", "one query")
 #: The matrices of a solver: one factored for its solves (``"factor"``), one kept for many (``"solve"``).
 STAGES = ("factor", "solve")
 

@@ -35,9 +35,9 @@ import scipy.sparse as sp
 from ..errors import SolverError
 from ..linalg import (
     Ordering,
-    choose_backend,
     factor,
     fill_reducing_ordering,
+    resolve_backend,
     restrict_ordering,
     start_nested_dissection,
 )
@@ -47,12 +47,6 @@ from .heat_flow import HeatFlow
 from .poisson import PinnedPoisson, grounded
 
 log = logging.getLogger("heatcore")
-
-
-def _resolve_backend(backend, n, *, intent, stage):  # TEMP until linalg has it
-    if backend != "auto":
-        return backend
-    return choose_backend(n, "once" if intent == "one query" else stage)
 
 
 @dataclass(frozen=True)
@@ -122,8 +116,8 @@ class SolverFactors:
         self._cache = cache
         self._laplacian = ops.laplacian.tocsr()
         n = ops.n_vertices
-        self.heat_backend = _resolve_backend(settings.backend, n, intent=settings.intent, stage="factor")
-        self.poisson_backend = _resolve_backend(settings.backend, n, intent=settings.intent, stage="solve")
+        self.heat_backend = resolve_backend(settings.backend, n, intent=settings.intent, stage="factor")
+        self.poisson_backend = resolve_backend(settings.backend, n, intent=settings.intent, stage="solve")
         self.timings = timings
         self._heat_flow = self._poisson = None
         self._deferred = None
