@@ -57,8 +57,6 @@ Examples
 1.414214
 """
 
-import weakref
-
 import numpy as np
 
 from .domains.intrinsic import NEXT, PREV
@@ -74,7 +72,6 @@ POLISH_SWEEPS = 0
 #: A value counts as changed when it decreases by more than this, relatively.
 TOL = 1e-6
 
-_CORNERS = weakref.WeakKeyDictionary()
 _ZERO = np.zeros(1, dtype=np.int64)
 _EMPTY = np.zeros(0, dtype=np.int64)
 
@@ -168,17 +165,11 @@ class CornerTable:
 
     @classmethod
     def of_domain(cls, domain):
-        """The corner table of a domain's :meth:`~heatcore.domains.base.Domain.eikonal_triangles` (built once, cached)."""
-        try:
-            return _CORNERS[domain]
-        except (KeyError, TypeError):
-            pass
-        table = cls(domain.operators.n_vertices, *domain.eikonal_triangles())
-        try:
-            _CORNERS[domain] = table
-        except TypeError:  # pragma: no cover - a domain that cannot be weakly referenced
-            pass
-        return table
+        """The corner table of a domain's :meth:`~heatcore.domains.base.Domain.eikonal_triangles` (built once,
+        kept in the domain's cache)."""
+        return domain.derived.get_or_build(
+            ("eikonal corners", None), lambda: cls(domain.operators.n_vertices, *domain.eikonal_triangles())
+        )
 
 
 def triangle_update(da, db, c, x, y, ca, cb):

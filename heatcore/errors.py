@@ -113,13 +113,27 @@ class SolverError(HeatcoreError, RuntimeError):
     """
 
 
-class UnsupportedDomainError(HeatcoreError, TypeError):
-    """An operation asked of a domain that does not have it (geodesic paths on a point cloud, say).
+class UnsupportedDomainError(InvalidOptionError, TypeError):
+    """The domain cannot do what was asked of it: the one error for that, wherever it is asked.
+
+    ``accuracy="high"`` on a domain without triangles to sweep, a geodesic
+    path or the vector heat method off a triangle mesh. It is an
+    :class:`InvalidOptionError` (what was asked does not fit the domain:
+    ``except InvalidOptionError``, which ``accuracy="high"`` on another
+    domain raised before, still catches it) and a ``TypeError`` (the kind of
+    domain is wrong: what it was before). The vector heat method raised
+    :class:`InvalidMeshError` for other domains before; it raises this now.
 
     Examples
     --------
-    >>> issubclass(UnsupportedDomainError, TypeError)
-    True
+    >>> issubclass(UnsupportedDomainError, InvalidOptionError), issubclass(UnsupportedDomainError, TypeError)
+    (True, True)
+    >>> import numpy as np, heatcore as hc
+    >>> try:
+    ...     hc.HeatSolver(hc.PointCloud(np.eye(3)), accuracy="high")
+    ... except hc.InvalidOptionError as error:  # what it raised before
+    ...     print(type(error).__name__)
+    UnsupportedDomainError
     """
 
 

@@ -1,4 +1,4 @@
-"""accuracy="high": which eikonal pass runs, and the compiled pass's corners per domain.
+"""accuracy="high": which eikonal pass runs, and the compiled pass's corners (kept in the domain's cache).
 
 Where numba is installed (the ``fast`` extra) the distance comes from the
 compiled fast marching of :mod:`heatcore.fast_marching`, run from the
@@ -15,13 +15,9 @@ Examples
 [0.0, 1.414214, 1.414214]
 """
 
-import weakref
-
 import numpy as np
 
 from .eikonal import TOL, corner_layout, refine_distance
-
-_READERS = weakref.WeakKeyDictionary()  # domain -> fast_marching.Readers
 
 
 def high_accuracy_distance(domain, pins, heat_distance, tol=TOL):
@@ -89,10 +85,9 @@ def march_from_pins(domain, pins, tol=TOL):
 
     d = np.full(domain.operators.n_vertices, np.inf)
     d[pins.vertices] = pins.values
-    try:
-        readers = _READERS[domain]
-    except KeyError:
-        corners = corner_layout(*domain.eikonal_triangles())
-        readers = _READERS[domain] = fast_marching.Readers(domain.operators.n_vertices, *corners)
+    readers = domain.derived.get_or_build(  # kept in the domain's cache
+        ("fast marching", None),
+        lambda: fast_marching.Readers(domain.operators.n_vertices, *corner_layout(*domain.eikonal_triangles())),
+    )
     fast_marching.march(readers, d, pins.vertices, tol)
     return np.ldexp(d, domain.operators.unit_exponent)

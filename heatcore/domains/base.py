@@ -11,7 +11,11 @@ A domain (triangle mesh, polygon mesh, tet mesh, point cloud) supplies:
   from the kinds the domain lists in ``source_kinds`` (each kind ``k`` is a
   method ``_pin_k(value, builder)``);
 - capabilities, declared and not guessed: ``supports_high_accuracy`` and
-  :meth:`Domain.eikonal_triangles` for the ``accuracy="high"`` pass.
+  :meth:`Domain.eikonal_triangles` for the ``accuracy="high"`` pass;
+- ``derived``: the one cache of what is derived from the domain
+  (:class:`~heatcore.domains.derived.DerivedCache`: orderings, factors, the
+  path mesh, eikonal corners, tangent frames), created on first use, so a
+  subclass's constructor does nothing for it, and dropped with the domain.
 
 :class:`MeshDomain` adds what the mesh domains share: their input
 ``vertices`` and a ``vertex_map`` to operator vertices.
@@ -32,6 +36,7 @@ from abc import ABC, abstractmethod
 import numpy as np
 
 from ..errors import InvalidSourceError
+from .derived import DerivedCache
 from .parts import row_norms
 from .sources import barycentric_array, build_source_pins, index_list
 
@@ -62,6 +67,23 @@ class Domain(ABC):
     supports_high_accuracy = False
     #: True: unit heat once per source vertex however often it is named; False: heat adds up.
     unit_heat_once = False
+
+    @property
+    def derived(self):
+        """The :class:`~heatcore.domains.derived.DerivedCache` of this domain, created on first use.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from heatcore.domains import TriangleMesh
+        >>> mesh = TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0)
+        >>> mesh.derived is mesh.derived, len(mesh.derived)
+        (True, 0)
+        """
+        cache = self.__dict__.get("_derived")
+        if cache is None:
+            cache = self.__dict__.setdefault("_derived", DerivedCache())  # one, even if two threads ask at once
+        return cache
 
     @property
     @abstractmethod
@@ -136,7 +158,7 @@ class Domain(ABC):
         >>> sorted(zip(*(x.tolist() for x in mesh.straight_neighbours(np.array([0])))))
         [(1, 3.0), (2, 4.0)]
         """
-        table = self.__dict__.get("_straight_table")
+        table = self.derived.get(("straight segments", None))
         if table is None:
             mark = np.zeros(self.n_input_vertices, dtype=bool)
             mark[vertices] = True
@@ -150,9 +172,9 @@ class Domain(ABC):
         return near, row_norms(X[near] - X[start])
 
     def index_straight_neighbours(self):
-        """Build, once, the table of every vertex's straight segments, kept with the domain (for many queries)."""
-        if "_straight_table" not in self.__dict__:
-            self._straight_table = self._straight_segments(np.ones(self.n_input_vertices, dtype=bool), table=True)
+        """Build, once, the table of every vertex's straight segments, kept in :attr:`derived` (for many queries)."""
+        self.derived.get_or_build(("straight segments", None),
+                                  lambda: self._straight_segments(np.ones(self.n_input_vertices, dtype=bool), table=True))
 
     def _straight_segments(self, mark, table=False):
         """The segments from ``mark``ed vertices: ``(neighbours, lengths)``; with ``table``, their ``(indptr, neighbours)``

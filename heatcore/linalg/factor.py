@@ -25,7 +25,6 @@ array([1., 1.])
 """
 
 import importlib
-import weakref
 
 from ..errors import SolverError
 from .backends import (  # noqa: F401 (re-exported: the names this module has always offered)
@@ -39,10 +38,6 @@ from .backends import (  # noqa: F401 (re-exported: the names this module has al
 )
 from .interface import Factor, canonical_csr  # noqa: F401 (re-exported, as above)
 from .libraries import optional
-
-#: Factorizations and orderings of each live domain, shared by its solvers (see :func:`domain_factors`).
-_DOMAIN_FACTORS = weakref.WeakKeyDictionary()
-
 
 def factor(A, backend="auto", prefer="factor", ordering=None):
     """Factor a sparse symmetric positive definite matrix once.
@@ -91,17 +86,21 @@ def factor(A, backend="auto", prefer="factor", ordering=None):
 
 
 def domain_factors(domain):
-    """The factorizations and orderings kept for ``domain``, shared by every solver built on it.
+    """The domain's cache of what is derived from it: ``domain.derived`` (to be removed; use that).
 
-    They depend on the domain only (not on ``m`` or the boundary condition),
-    live as long as the domain does, and are kept here, not on the domain.
+    linalg keeps nothing: the factorizations and orderings shared by a
+    domain's solvers live in the domain's
+    :class:`~heatcore.domains.derived.DerivedCache`, under keys such as
+    ``("poisson", backend)``, ``("nested", backend)``, ``("ordering", backend)``.
 
     Examples
     --------
     >>> import numpy as np, heatcore as hc
     >>> mesh = hc.TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0)
     >>> _ = hc.HeatSolver(mesh)
+    >>> domain_factors(mesh) is mesh.derived
+    True
     >>> sorted({key for key, _ in domain_factors(mesh)})
     ['nested', 'ordering', 'poisson']
     """
-    return _DOMAIN_FACTORS.setdefault(domain, {})
+    return domain.derived

@@ -30,7 +30,6 @@ Examples
 (1, 3)
 """
 
-import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,8 +37,6 @@ import scipy.sparse as sp
 
 from ..domains.sources import barycentric_array, index_list
 from ..errors import InvalidSourceError
-
-_MESHES = weakref.WeakKeyDictionary()
 
 
 @dataclass(frozen=True, eq=False)
@@ -172,11 +169,8 @@ class PathMesh:
 
     @classmethod
     def of(cls, domain):
-        """The :class:`PathMesh` of ``domain``, built once and kept as long as the domain lives."""
-        mesh = _MESHES.get(domain)
-        if mesh is None:
-            mesh = _MESHES[domain] = cls(domain)
-        return mesh
+        """The :class:`PathMesh` of ``domain``, built once and kept in the domain's cache (as long as it lives)."""
+        return domain.derived.get_or_build(("path mesh", None), lambda: cls(domain))
 
     # ----------------------------------------------------------------- points
 

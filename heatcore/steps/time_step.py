@@ -1,4 +1,7 @@
-"""The time step's guard: heat that would underflow double precision far from the sources.
+"""The time step ``t = m h^2`` of each vertex, and its guard: heat that would underflow far from the sources.
+
+:func:`vertex_time_steps` is the one definition of the step, shared by the
+heat method and the vector heat method.
 
 With ``t = m h^2`` the heat of one backward-Euler step falls by a constant
 factor per edge hop, so on a mesh hundreds of hops across it underflows and
@@ -10,6 +13,8 @@ Examples
 --------
 >>> round(float(underflow_safe_m(700)), 2)
 2.42
+>>> vertex_time_steps(np.array([1.0, 2.0]), np.array([0, 0, 1]), 0.5).tolist()
+[0.25, 0.25, 0.5]
 """
 
 import numpy as np
@@ -87,3 +92,32 @@ def underflow_safe_m(hop_diameter, budget=HEAT_DECADES_BUDGET):
         ratio = 10.0 ** -(budget / (HOP_DECAY_FACTOR * hops))  # the heat ratio per hop that spends the budget
     m = ratio / (1.0 - ratio) ** 2  # inverts heat_decay_per_hop: m r^2 - (1 + 2m) r + m = 0 for m
     return float(m) if m.ndim == 0 else m
+
+
+def vertex_time_steps(part_m, component, mean_edge_length):
+    """The heat time step ``t = m h^2`` of each vertex: its component's time factor and mean edge length.
+
+    Parameters
+    ----------
+    part_m : (n_components,) float array
+        The time factor of each connected component (``m``, raised by
+        :func:`underflow_safe_m` where needed).
+    component : (n,) int array
+        The component of each vertex.
+    mean_edge_length : float or (n,) float array
+        ``h``: one value, or each vertex's (its component's, in its unit).
+
+    Returns
+    -------
+    (n,) float array
+        ``part_m[component] * h * h``, constant on each component.
+
+    Examples
+    --------
+    >>> vertex_time_steps(np.array([1.0]), np.zeros(3, dtype=int), 0.1).round(12).tolist()
+    [0.01, 0.01, 0.01]
+    >>> vertex_time_steps(np.array([1.0, 4.0]), np.array([0, 1]), np.array([2.0, 0.5])).tolist()
+    [4.0, 1.0]
+    """
+    h = np.broadcast_to(mean_edge_length, component.shape)
+    return part_m[component] * h * h

@@ -28,11 +28,12 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..domains.triangle import TriangleMesh
-from ..errors import InvalidMeshError, InvalidSourceError
-from ..heat import HeatSolver, domain_factors
+from ..errors import InvalidSourceError, UnsupportedDomainError
+from ..heat import HeatSolver
 from ..linalg import solve_columns
 from ..linalg.hermitian import factor_hermitian
 from ..settings import SolverSettings
+from ..steps.time_step import vertex_time_steps
 from .basis import tangent_frames
 from .connection import connection_laplacian, translation_matrix
 from .frames import vertex_frames
@@ -101,7 +102,7 @@ class VectorHeatSolver:
 
     Raises
     ------
-    InvalidMeshError
+    UnsupportedDomainError
         ``domain`` is not a :class:`~heatcore.TriangleMesh` (point clouds,
         polygon and tet meshes have no vertex frames here yet).
 
@@ -121,7 +122,7 @@ class VectorHeatSolver:
     def __init__(self, domain, settings=None, **options):
         settings = SolverSettings(FRONT_END, **options) if settings is None else SolverSettings.of(settings, **options)
         if not isinstance(domain, TriangleMesh):
-            raise InvalidMeshError(
+            raise UnsupportedDomainError(
                 f"the vector heat method runs on triangle meshes (TriangleMesh), not on a {domain.domain_name}"
             )
         self.domain = domain
@@ -131,28 +132,24 @@ class VectorHeatSolver:
         self.distance_solver = HeatSolver(domain, settings)
         self.timings = dict(self.distance_solver.timings)
         start = time.perf_counter()
-        cache = domain_factors(domain)
-        if ("vector frames", None) not in cache:
-            tri, sub = domain.intrinsic, domain.subdivision
-            frames = vertex_frames(tri, domain.operators.n_vertices)
-            basis = tangent_frames(sub.vertices, sub.faces, tri, frames)
-            cache["vector frames", None] = (frames, connection_laplacian(tri, frames), translation_matrix(tri, frames), basis)
-        self._frames, self._connection, self._translation, self._basis = cache["vector frames", None]
+        cache = domain.derived  # the frames and the vector heat factor are kept with the domain
+        self._frames, self._connection, self._translation, self._basis = cache.get_or_build(
+            ("vector frames", None), lambda: _frames_of(domain)
+        )
         self.timings["vector frames"] = time.perf_counter() - start
         start = time.perf_counter()
         ops, hs = domain.operators, self.distance_solver
-        h = np.broadcast_to(ops.mean_edge_length, (ops.n_vertices,))
         # The distance's time step t = m h^2 (h of the refined mesh), and its Neumann heat M + t L for the
         # scalar flows (also half of its Robin heat). With h of the mesh as given the angles of the log map
         # were 1.7-2.1 times further from exact geodesics on spot, cheburashka and fandisk, though closer
         # to the longitude on an icosphere (docs/vector-heat.md).
-        self._step = hs.part_m[hs.component] * h * h
+        self._step = vertex_time_steps(hs.part_m, hs.component, ops.mean_edge_length)
         self._flow = hs.heat_flow.neumann
-        key = ("vector heat", (hs.m, backend))
-        if key not in cache:
-            vector = (sp.diags(ops.mass.astype(complex)) + sp.diags(self._step) @ self._connection).tocsr()
-            cache[key] = factor_hermitian(vector, backend)
-        self._vector_factor = cache[key]
+        self._vector_factor = cache.get_or_build(
+            ("vector heat", (hs.m, backend)),
+            lambda: factor_hermitian((sp.diags(ops.mass.astype(complex)) + sp.diags(self._step) @ self._connection).tocsr(),
+                                     backend),
+        )
         self.timings["vector heat factorization"] = time.perf_counter() - start
 
     def tangent_basis(self):
@@ -291,3 +288,11 @@ class VectorHeatSolver:
         out[index >= 0] = values[index[index >= 0]]
         return out
 
+
+def _frames_of(domain):
+    """What the vector heat method derives from ``domain`` once: vertex frames, the connection Laplacian, the
+    translation matrix and the input vertices' tangent basis."""
+    tri, sub = domain.intrinsic, domain.subdivision
+    frames = vertex_frames(tri, domain.operators.n_vertices)
+    basis = tangent_frames(sub.vertices, sub.faces, tri, frames)
+    return frames, connection_laplacian(tri, frames), translation_matrix(tri, frames), basis
