@@ -28,9 +28,9 @@ from . import adapters
 from ._heatcore import heatcore
 from .adapters import AddonError
 from .cache import SOLVERS, geometry_key
-from .shape import measured_positions
 from .polygons import key_options
-from .stages import FRONT_END_OPTIONS, Settings, options
+from .shape import measured_positions
+from .stages import FRONT_END_OPTIONS, Settings
 
 #: The UV map's default name.
 DEFAULT_UV_MAP = "geodesic_uv"
@@ -40,15 +40,13 @@ UNREACHED_UV = (0.0, 0.0)
 MARKER = "heat_geodesic_uv_maps"
 #: Longest UV map name Blender keeps, in bytes.
 MAX_NAME = 63
-#: The options the UV map takes: the Blender front end's mesh and solver options (the domain's and the
-#: :class:`heatcore.VectorHeatSolver`'s), with Blender's defaults (``weld`` off).
-VECTOR_OPTIONS = tuple(n for n in FRONT_END_OPTIONS["blender"] if options.OPTIONS[n].target in ("mesh", "solver"))
-#: But the radii are the eikonal pass's by default: the vector heat method's own default accuracy.
-UV_ACCURACY = options.OPTIONS["accuracy"].default_for("vector heat")
+#: The options the UV map takes (the domain's and the :class:`heatcore.VectorHeatSolver`'s), with its
+#: front end's defaults (``weld`` off, ``accuracy`` high).
+VECTOR_OPTIONS = FRONT_END_OPTIONS["blender uv map"]
 
 
 def uv_settings(solver_options):
-    """The UV map's one ``heatcore.settings.Settings`` of its options (Blender's, and :data:`UV_ACCURACY`).
+    """The UV map's one ``heatcore.settings.Settings`` of its options (its front end's defaults: weld off, accuracy high).
 
     Raises
     ------
@@ -65,7 +63,7 @@ def uv_settings(solver_options):
     unknown = sorted(set(solver_options) - set(VECTOR_OPTIONS))
     if unknown:
         raise AddonError(f"the UV map takes the options {', '.join(VECTOR_OPTIONS)}; not {', '.join(unknown)}")
-    return Settings.of("blender", **{"accuracy": UV_ACCURACY, **solver_options})
+    return Settings.of("blender uv map", **solver_options)
 
 
 @dataclass
@@ -294,7 +292,7 @@ def geodesic_uv_map(obj, vertex=None, *, point=None, name=DEFAULT_UV_MAP, unit=N
         ``robust``, ``refine``, ``weld`` (the domain) and ``m``, ``boundary``,
         ``accuracy``, ``backend`` (:class:`heatcore.VectorHeatSolver`):
         :data:`VECTOR_OPTIONS`, made one ``Settings`` (:func:`uv_settings`:
-        Blender's defaults, and ``accuracy="high"``).
+        weld off, ``accuracy="high"``).
 
     Returns
     -------

@@ -203,7 +203,7 @@ class Option:
         return low_ok and (self.high is None or value <= self.high)
 
     def default_for(self, front_end):
-        """The default in ``front_end`` ("cli", "meshlab", "blender", "vector heat": the log map and its front ends).
+        """The default in ``front_end`` (a key of :data:`heatcore.settings.FRONT_END_OPTIONS`).
 
         Examples
         --------
@@ -282,7 +282,8 @@ _OPTIONS = (
         "solver", choices=("smooth", "high"),
         choice_help=("The heat method: smooth distance, about 1-2% error",
                      "An eikonal pass: about 0.1-0.3% error, 2-40 times slower (see the docs)"),
-        flag="--accuracy", front_end_defaults=(("vector heat", "high", "high: the log map's radius"),),
+        flag="--accuracy", front_end_defaults=(("vector heat", "high", "high: the log map's radius"),
+                                               ("blender uv map", "high", "high: the UV map's radii")),
     ),
     Option(
         "backend", "linear-algebra backend", str, "auto", "none (a choice)",
@@ -315,7 +316,8 @@ _OPTIONS = (
         "mesh", low=0, none_means="no welding", flag="--weld-tolerance", metavar="TOL",
         off_flag="--no-weld", off_help="no welding: solve on the vertices as they are (coincident vertices stay apart)",
         ui_label="Merge Coincident Vertices",
-        front_end_defaults=(("blender", None, "off: the mesh as connected in Blender"),),
+        front_end_defaults=(("blender", None, "off: the mesh as connected in Blender"),
+                            ("blender uv map", None, "off: the mesh as connected in Blender")),
         switch_help="merge vertices at exactly the same position into one before solving, for meshes imported as "
                     "triangle soup (STL); off: the mesh is measured as it is connected in Blender, so islands that "
                     "touch at a vertex (Suzanne's eyes) stay apart: a source on one reaches no other",

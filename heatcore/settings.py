@@ -52,12 +52,13 @@ FRONT_END_OPTIONS = {
     "batch": (*_SOLVER, *_MESH, "domain"),
     "meshlab": (*_SOLVER, *_MESH, "colormap", "isolines"),
     "blender": (*_SOLVER, *_MESH, "colormap", "isolines", *_WEIGHTS),
-    "vector heat": ("m", "accuracy", "backend", *_MESH),
+    "vector heat": (*_SOLVER, *_MESH),
+    "blender uv map": (*_SOLVER, *_MESH),
 }
 
 #: How each front end is named in messages.
 FRONT_END_NAMES = {"api": "Python API", "cli": "command-line", "batch": "batch", "meshlab": "MeshLab",
-                   "blender": "Blender", "vector heat": "vector heat"}
+                   "blender": "Blender", "vector heat": "vector heat", "blender uv map": "Blender UV map"}
 
 #: What a solver is built for: many queries (``"reuse"``: "auto" picks the backends that solve fastest
 #: once factored) or one (``"one query"``: the backend that factors fastest, see :mod:`heatcore.linalg`).
