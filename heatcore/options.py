@@ -394,17 +394,6 @@ def check(name, value, extra=()):
     return OPTIONS[name].check(value, extra)
 
 
-def check_all(values):
-    """:func:`check` every declared option of a ``{name: value}`` dict; others pass unchanged.
-
-    Examples
-    --------
-    >>> check_all({"m": 1, "refine": 0, "other": "x"})
-    {'m': 1.0, 'refine': 0, 'other': 'x'}
-    """
-    return {k: check(k, v) if k in OPTIONS else v for k, v in values.items()}
-
-
 def names(target):
     """Names of the options that go to ``target``, in declaration order.
 

@@ -52,7 +52,6 @@ def test_polygon_domain_keeps_quads(tmp_path):
     assert cli.main(["distance", str(path), "--domain", "polygon", "-s", "0", "-o", str(npy), "-q"]) == 0
     f = read_domain(path, "polygon")
     mesh = hc.PolygonMesh(f.vertices, f.cells)
-    one_query = hc.linalg.one_query_backend("auto", mesh.operators.n_vertices)  # as the command factors
-    expected = hc.HeatSolver(mesh, backend=one_query).distance([0])
+    expected = hc.HeatSolver(mesh, hc.SolverSettings(intent="one query")).distance([0])  # as the command factors
     assert np.array_equal(np.load(npy), expected)
     assert (np.diff(f.cells[0]) == 4).sum() == 468
