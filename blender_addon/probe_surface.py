@@ -10,8 +10,9 @@ shape is the same surface point of the measured shape, whatever ``space``
 and ``shape`` measure.
 
 Building the tree takes 0.3 s at 65k vertices and 3.4 s at 1M; it is kept
-beside the solver (:data:`_TREES`, dropped with the solver) and reused
-while the displayed positions are the same.
+in the cache of the solver's domain (under :data:`SURFACE_KEY`, dropped
+with the solver and its domain) and reused while the displayed positions are
+the same.
 
 Examples
 --------
@@ -22,7 +23,6 @@ Examples
 array([0.01, 0.02, 0.99])
 """
 
-import weakref
 from collections import namedtuple
 
 import numpy as np
@@ -32,8 +32,8 @@ from mathutils.bvhtree import BVHTree
 from . import adapters
 from .shape import measured_positions
 
-#: The displayed surface of each cached solver (dropped with the solver).
-_TREES = weakref.WeakKeyDictionary()
+#: Where a cached solver keeps its displayed surface: its domain's cache (``heatcore.domains.derived``).
+SURFACE_KEY = ("displayed surface", None)
 
 #: A ray's hit: the loop triangle, barycentric coordinates, world location and distance along the ray.
 Hit = namedtuple("Hit", "face barycentric location depth")
@@ -71,7 +71,7 @@ class DisplayedSurface:
         """The displayed surface of ``obj`` for a :class:`~.stages.PreparedRun`: the one kept with its cached
         solver when the displayed positions are unchanged, else a new one (without a tree yet)."""
         positions = displayed_positions(obj, run)
-        kept = _TREES.get(run.solver) if run.solver is not None else None
+        kept = run.solver.domain.derived.get(SURFACE_KEY) if run.solver is not None else None
         if kept is not None and np.array_equal(kept.positions, positions):
             return kept
         return cls(positions, adapters.mesh_arrays(obj.data)[1])
@@ -83,8 +83,8 @@ class DisplayedSurface:
         return self.tree
 
     def keep(self, solver):
-        """Keep this surface beside ``solver`` for the next probe on the same mesh."""
-        _TREES[solver] = self
+        """Keep this surface beside ``solver`` (in its domain's cache) for the next probe on the same mesh."""
+        solver.domain.derived[SURFACE_KEY] = self
 
     def ray_cast(self, origin, direction):
         """The first hit of a world-space ray, or None (also before the tree is built)."""

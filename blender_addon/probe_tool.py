@@ -19,7 +19,6 @@ Examples
 >>> bpy.ops.mesh.heat_geodesic_probe("INVOKE_DEFAULT")    # doctest: +SKIP
 """
 
-import weakref
 
 import bpy
 from bpy.app.handlers import persistent
@@ -50,8 +49,9 @@ CANCEL = frozenset({"ESC", "RIGHTMOUSE"})
 KEYS = "click: source · drag: move it · Shift+click: add · Ctrl+click: path to · Enter: apply · Esc: cancel"
 TOOL_KEYS = "release: apply · Esc / right-click: cancel"
 
-#: The sources of the tool's last click, per solver (so per unchanged mesh): Shift/Ctrl+click start from them.
-_LAST_SOURCES = weakref.WeakKeyDictionary()
+#: Where the sources of the tool's last click on a mesh are kept: the cache of its solver's domain (so per unchanged
+#: mesh, dropped with the solver); Shift/Ctrl+click start from them.
+SOURCES_KEY = ("probe sources", None)
 
 
 class ProbeSession:
@@ -139,7 +139,7 @@ class ProbeSession:
         if press is None:
             return
         try:
-            last = _LAST_SOURCES.get(self.probe.run.solver)
+            last = self.probe.run.solver.domain.derived.get(SOURCES_KEY)
             if last and (press.shift or press.ctrl):
                 self.probe.place(last)
             self._press(press)
@@ -213,7 +213,7 @@ class ProbeSession:
                 self.display.text(str(exc), self.keys)
                 return {"RUNNING_MODAL"}
             return self.cancel(str(exc), "ERROR")
-        _LAST_SOURCES[self.probe.run.solver] = list(self.probe.sources)
+        self.probe.run.solver.domain.derived[SOURCES_KEY] = list(self.probe.sources)
         self.display.end()
         sources = len(self.probe.sources)
         self.report({"INFO"}, f"Geodesic probe: distance from {sources} source{'s' * (sources > 1)} written to "

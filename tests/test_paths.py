@@ -13,7 +13,7 @@ from shapes import grid, icosphere
 
 import heatcore as hc
 from heatcore.apps.cli import main
-from heatcore.paths import path as path_module
+from heatcore.paths import fields as fields_module
 
 MEAN_EXCESS, MAX_EXCESS, SHORTER = 1e-3, 5e-3, 1e-9
 
@@ -147,8 +147,8 @@ def test_distances_are_queried_once_per_point_and_kept(monkeypatch):
     V, F = load_shared_mesh("spot")
     solver = hc.HeatSolver(hc.TriangleMesh(V, F))
     calls = []
-    original = path_module.high_accuracy_distance
-    monkeypatch.setattr(path_module, "high_accuracy_distance",
+    original = fields_module.high_accuracy_distance
+    monkeypatch.setattr(fields_module, "high_accuracy_distance",
                         lambda domain, pins, heat: calls.append(pins.vertices[0]) or original(domain, pins, heat))
     first = solver.geodesic_path(0, 1453)  # from both ends: the distance from 0 and from 1453
     assert len(calls) == 2
@@ -262,3 +262,15 @@ def test_path_command_errors(tmp_path, capsys):
     assert "unknown extension '.txt'" in capsys.readouterr().err
     assert main(["path", mesh, "--from", "0", "--to", "3"]) == 2
     assert not list(tmp_path.iterdir())
+
+
+def test_the_solver_holds_its_path_fields():
+    """The fields live in the solver's public path_fields (a PathFieldCache), not in a hidden attribute."""
+    V, F = grid(6, 6)
+    solver = hc.HeatSolver(hc.TriangleMesh(V, F))
+    solver.geodesic_path(0, 35)
+    assert isinstance(solver.path_fields, hc.paths.PathFieldCache) and len(solver.path_fields) == 2
+    assert not any(name.startswith("_path") for name in vars(solver))
+    assert ("path mesh", None) in solver.domain.derived
+    solver.path_fields.clear()
+    assert solver.geodesic_path(0, 35).length > 0 and len(solver.path_fields) == 2

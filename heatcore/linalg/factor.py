@@ -39,6 +39,7 @@ from .backends import (  # noqa: F401 (re-exported: the names this module has al
 from .interface import Factor, canonical_csr  # noqa: F401 (re-exported, as above)
 from .libraries import optional
 
+
 def factor(A, backend="auto", prefer="factor", ordering=None):
     """Factor a sparse symmetric positive definite matrix once.
 

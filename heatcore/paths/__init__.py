@@ -5,6 +5,8 @@
 - :mod:`~heatcore.paths.funnel`: the shortest path inside an unfolded strip of faces;
 - :mod:`~heatcore.paths.straighten`: bends cut until the path is a geodesic;
 - :mod:`~heatcore.paths.path`: :class:`GeodesicPath` and the driver;
+- :mod:`~heatcore.paths.fields`: the distance fields a solver keeps for paths
+  (:class:`PathFieldCache`, held by the solver as ``path_fields``);
 - :mod:`~heatcore.paths.edges`: :func:`edge_chain`, mesh edges along a path (front ends select them).
 
 Examples
@@ -16,6 +18,7 @@ Examples
 """
 
 from .edges import edge_chain
+from .fields import PathFieldCache
 from .path import GeodesicPath
 
-__all__ = ["GeodesicPath", "edge_chain"]
+__all__ = ["GeodesicPath", "PathFieldCache", "edge_chain"]

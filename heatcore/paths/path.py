@@ -4,7 +4,8 @@ Method (docs/paths.md):
 
 1. the distance from the source, and (``both_ends``) from the target: one
    query of the solver's factorizations each, refined by the eikonal pass
-   (:class:`PathField`, kept on the solver for further paths);
+   (:class:`~heatcore.paths.fields.PathField`, kept in the solver's
+   ``path_fields`` for further paths);
 2. routes: steepest descent on the source's distance from the target and from
    each vertex around it, and (``both_ends``) on the target's distance from
    the source and around it (:func:`candidate_routes`,
@@ -30,12 +31,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..domains.triangle import TriangleMesh
-from ..high_accuracy import high_accuracy_distance
 from ..errors import InvalidSourceError, UnsupportedDomainError
+from .fields import PathField
 from .funnel import Piece
 from .straighten import straighten
 from .surface import PathMesh
-from .trace import DescentField, Route, descend
+from .trace import Route, descend
 
 
 @dataclass(frozen=True, eq=False)
@@ -87,54 +88,6 @@ class GeodesicPath:
         edges[inside] = np.sort(mesh.input_vertex[piece.edge[inside]], axis=1)
         length = float(np.linalg.norm(np.diff(xyz, axis=0), axis=1).sum())
         return cls(xyz, mesh.face_ids[np.asarray(piece.faces, dtype=np.int64)], edges, vertices, length)
-
-
-#: Distance fields a solver keeps for paths (the source's and the last target's).
-FIELDS_KEPT = 2
-
-
-class PathField:
-    """The distance from one point and its descent data, kept on the solver for further paths.
-
-    The solver keeps the :data:`FIELDS_KEPT` fields used last: paths from one
-    source to many targets query the source once.
-
-    Examples
-    --------
-    >>> import heatcore as hc
-    >>> solver = hc.HeatSolver(hc.TriangleMesh(*hc.io.load_demo_mesh()))
-    >>> field = PathField.of(solver, PathMesh.of(solver.domain).vertex_point(0))
-    >>> field is PathField.of(solver, PathMesh.of(solver.domain).vertex_point(0))
-    True
-    """
-
-    def __init__(self, descent, key):
-        self.descent, self.key = descent, key
-
-    @classmethod
-    def of(cls, solver, source):
-        """The field of ``source`` (a :class:`SurfacePoint`) on ``solver``: a kept one, or one query."""
-        kept = solver.__dict__.setdefault("_path_fields", {})
-        key = source.key()
-        if key in kept:
-            kept[key] = kept.pop(key)  # the most recently used last
-            return kept[key]
-        mesh = PathMesh.of(solver.domain)
-        if source.vertex >= 0:
-            pins = solver.domain.source_pins([int(mesh.input_vertex[source.vertex])])
-        else:
-            face = int(mesh.face_ids[source.face])
-            pins = solver.domain.source_pins(points=([face], [mesh.bary_in(source.face, source)]))
-        if solver.accuracy == "high":
-            phi = solver.distance_from_pins(pins)
-        else:  # the eikonal pass all the same: a better route for little more time
-            phi = high_accuracy_distance(solver.domain, pins, lambda: solver.distance_from_pins(pins))
-        phi = phi[: mesh.positions.shape[0]]
-        field = cls(DescentField(mesh, phi), key)
-        while len(kept) >= FIELDS_KEPT:
-            kept.pop(next(iter(kept)))
-        kept[key] = field
-        return field
 
 
 def geodesic_path(solver, source, target, both_ends=True):
