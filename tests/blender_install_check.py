@@ -58,7 +58,7 @@ def main(zip_path):
         solver = hc.HeatSolver(mesh, backend="supernodal")
         supernodal = solver.distance([top]).tolist()
         sparse_forward = solver.heat_flow.neumann._sparse_forward is not None  # the bundled CHOLMOD's layout was read
-        nested = isinstance(hc.heat.domain_factors(mesh)["nested", "supernodal"], hc.linalg.Ordering)
+        nested = isinstance(mesh.derived["nested", "supernodal"], hc.linalg.Ordering)
 
     print(
         json.dumps(
