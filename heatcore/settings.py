@@ -41,9 +41,7 @@ from dataclasses import dataclass
 from .errors import InvalidOptionError
 from .options import OPTIONS, names
 
-_SOLVER = ("m", "boundary", "accuracy", "backend")
-_MESH = ("robust", "refine", "weld")
-_WEIGHTS = ("weight_radius", "weight_falloff", "weight_invert")
+_SOLVER, _MESH, _OUTPUT = names("solver"), names("mesh"), names("output")
 
 #: The options each front end offers its users (and takes in :meth:`Settings.of`).
 FRONT_END_OPTIONS = {
@@ -51,7 +49,7 @@ FRONT_END_OPTIONS = {
     "cli": (*_SOLVER, *_MESH, "domain", "colormap", "isolines"),
     "batch": (*_SOLVER, *_MESH, "domain"),
     "meshlab": (*_SOLVER, *_MESH, "colormap", "isolines"),
-    "blender": (*_SOLVER, *_MESH, "colormap", "isolines", *_WEIGHTS),
+    "blender": (*_SOLVER, *_MESH, *_OUTPUT),
     "vector heat": (*_SOLVER, *_MESH),
     "blender uv map": (*_SOLVER, *_MESH),
 }

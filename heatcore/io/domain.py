@@ -28,8 +28,6 @@ from ..settings import MeshSettings
 DOMAIN_KINDS = OPTIONS["domain"].choices
 VOLUME_SUFFIXES = {".msh", ".vtu", ".vtk", ".mesh", ".node", ".ele"}
 POINT_SUFFIXES = {".xyz", ".pts", ".txt"}
-#: The mesh options (:func:`heatcore.options.names` ``("mesh")``) each domain kind's constructor takes.
-DOMAIN_OPTIONS = {"triangle": ("robust", "refine", "weld"), "polygon": ("refine",), "tet": (), "points": ("refine",)}
 
 
 @dataclass
@@ -86,9 +84,9 @@ class DomainFile:
             (:meth:`~heatcore.settings.MeshSettings.of`); with ``settings``,
             they change it.
 
-        Each option given must be one the kind of domain takes
-        (:data:`DOMAIN_OPTIONS`); those not given take the front end's
-        defaults, which are the domains' own.
+        Each option given must be one the kind of domain takes (its class's
+        ``mesh_options``: the domain refuses another); those not given take
+        the front end's defaults.
 
         Raises
         ------
@@ -110,7 +108,6 @@ class DomainFile:
         """
         settings = MeshSettings.of(settings, **options)
         cls = _domain_class(self.kind)
-        settings.refuse_untaken(DOMAIN_OPTIONS[self.kind], cls.domain_name)
         if self.kind == "triangle":
             return cls(self.vertices, self.cells, settings, progress=progress)
         mesh = cls(self.vertices, self.cells, settings)
