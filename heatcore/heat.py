@@ -34,7 +34,6 @@ from .domains.parts import first_of_each, hop_diameters, vertex_components, vert
 from .domains.sources import SourcePins, source_keywords
 from .errors import UnsupportedDomainError
 from .high_accuracy import high_accuracy_distance, high_accuracy_needs_heat
-from .linalg.factor import domain_factors
 from .progress import Progress
 from .settings import SolverSettings
 from .steps.blocks import block_columns, source_sequence
@@ -47,8 +46,6 @@ from .voronoi import nearest_source
 
 log = logging.getLogger("heatcore")
 
-#: The solver's options, declared in :mod:`heatcore.options`.
-OPTION_NAMES = ("m", "boundary", "accuracy", "backend")
 
 class HeatSolver:
     """Prefactored heat-method distance on one domain; cheap queries.
@@ -56,6 +53,10 @@ class HeatSolver:
     Parameters
     ----------
     domain : TriangleMesh or another domain with ``operators`` and ``source_pins``
+    settings : SolverSettings or Settings, optional
+        The options checked once by a front end (:mod:`heatcore.settings`,
+        with its ``intent``); the keyword options below build them (checked
+        here) or change them.
     m : float, default 1.0
         Time factor: ``t = m h^2`` with ``h`` the mean edge length. Larger
         values give a smoother distance (the smoothed distance of the paper).
@@ -97,6 +98,12 @@ class HeatSolver:
         Component of each operator vertex.
     timings : dict
         Seconds spent in each precomputation stage.
+    settings : SolverSettings
+        The options it was built with (:mod:`heatcore.settings`), and its intent.
+    factors : SolverFactors
+        Its factorizations (:mod:`heatcore.steps.factors`).
+    path_fields : PathFieldCache or None
+        The distance fields its geodesic paths keep (:mod:`heatcore.paths.fields`), from the first path on.
 
     Examples
     --------
@@ -115,6 +122,7 @@ class HeatSolver:
         self.m = settings.m
         self.domain = domain
         self._bounded = 0  # queries bounded near their sources (steps/source_bounds.py)
+        self.path_fields = None  # geodesic paths' distance fields, made by the first path (paths/fields.py)
         progress = Progress(progress)
         progress(0.0, "connected components")
         ops = self.ops = domain.operators
@@ -123,7 +131,7 @@ class HeatSolver:
         n = ops.n_vertices
         self.boundary = settings.boundary if ops.boundary.any() else "neumann"
         # Orderings and the Laplacian's factor depend on the domain only: its cache shares them among its solvers.
-        self.factors = SolverFactors(ops, domain_factors(domain), settings, self.timings)
+        self.factors = SolverFactors(ops, domain.derived, settings, self.timings)
         # accuracy="high" with numba needs no factorization: they wait for a first use (heat_flow, poisson).
         deferred = settings.accuracy == "high" and not high_accuracy_needs_heat()
         if not deferred:

@@ -84,24 +84,3 @@ def factor(A, backend="auto", prefer="factor", ordering=None):
         raise SolverError(f"backend {backend!r} needs the {library} package{extra}")
     # The backend's module is imported on first use, like its library.
     return getattr(importlib.import_module(f".{module}", __package__), factor_class)(A, ordering)
-
-
-def domain_factors(domain):
-    """The domain's cache of what is derived from it: ``domain.derived`` (to be removed; use that).
-
-    linalg keeps nothing: the factorizations and orderings shared by a
-    domain's solvers live in the domain's
-    :class:`~heatcore.domains.derived.DerivedCache`, under keys such as
-    ``("poisson", backend)``, ``("nested", backend)``, ``("ordering", backend)``.
-
-    Examples
-    --------
-    >>> import numpy as np, heatcore as hc
-    >>> mesh = hc.TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0)
-    >>> _ = hc.HeatSolver(mesh)
-    >>> domain_factors(mesh) is mesh.derived
-    True
-    >>> sorted({key for key, _ in domain_factors(mesh)})
-    ['nested', 'ordering', 'poisson']
-    """
-    return domain.derived
