@@ -57,7 +57,6 @@ from .backends import (
     SUPERNODAL_MIN_SIZE,
     available_backends,
     choose_backend,
-    one_query_backend,
     resolve_backend,
 )
 from .columns import solve_columns
@@ -82,7 +81,6 @@ __all__ = [
     "choose_backend",
     "factor",
     "fill_reducing_ordering",
-    "one_query_backend",
     "release_free_memory",
     "resolve_backend",
     "restrict_ordering",

@@ -125,30 +125,6 @@ def choose_backend(n, prefer="factor"):
     return "cholmod" if "cholmod" in backends else backends[0]
 
 
-def one_query_backend(backend, n):
-    """The backend for a solver asked a single query: ``backend``, or for "auto" the fastest to factor.
-
-    To be removed: ``resolve_backend(backend, n, intent="one query")`` says the same.
-
-    Parameters
-    ----------
-    backend : str
-        The backend option ("auto" or a name).
-    n : int
-        The number of unknowns.
-
-    Returns
-    -------
-    str
-
-    Examples
-    --------
-    >>> one_query_backend("superlu", 10), one_query_backend("auto", 10) == choose_backend(10, "once")
-    ('superlu', True)
-    """
-    return choose_backend(n, "once") if backend == "auto" else backend
-
-
 def resolve_backend(backend, n, *, intent="reuse", stage="factor"):
     """The backend that factors an ``n`` x ``n`` matrix: ``backend``, or for "auto" the one for the intent and stage.
 

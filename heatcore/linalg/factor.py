@@ -33,7 +33,6 @@ from .backends import (  # noqa: F401 (re-exported: the names this module has al
     SUPERNODAL_MIN_SIZE,
     available_backends,
     choose_backend,
-    one_query_backend,
     resolve_backend,
 )
 from .interface import Factor, canonical_csr  # noqa: F401 (re-exported, as above)
