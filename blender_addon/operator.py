@@ -23,7 +23,7 @@ from ._heatcore import heatcore
 from .adapters import AddonError
 from .api import compute_geodesic_distance
 from .background import CANCELLED, FAILED, RUNNING, BackgroundBuild, Busy
-from .display import TIMER_STEP, ProgressDisplay  # noqa: F401 (TIMER_STEP: probe_tool imports it from here)
+from .display import ProgressDisplay
 from .properties import GeodesicOptions
 from .stages import BUILD_RANGE, build_solver, check_unchanged, finish_run, prepare_run
 

@@ -29,8 +29,9 @@ from . import probe as probes
 from ._heatcore import heatcore
 from .adapters import AddonError
 from .background import DONE, RUNNING, Busy
+from .display import ProgressDisplay
 from .legend import format_distance
-from .operator import TIMER_STEP, poll_editable_mesh, show_color_attribute
+from .operator import poll_editable_mesh, show_color_attribute
 from .probe import GeodesicProbe
 from .probe_surface import Hit
 
@@ -62,7 +63,7 @@ class ProbeSession:
     probe : GeodesicProbe
     display : object
         ``text(message, keys)``, ``progress(fraction, message)``, ``end()``
-        (the header and status bar; :class:`ProbeDisplay` in Blender).
+        (the header and status bar; :class:`~.display.ProgressDisplay` in Blender).
     locate : callable
         ``locate(event)``: the :data:`~.probe_surface.Hit` under the mouse, or
         a text saying why there is none (off the mesh, another object in front).
@@ -229,45 +230,6 @@ class ProbeSession:
         return {"CANCELLED"}
 
 
-class ProbeDisplay:
-    """The header and status bar text while the probe runs, and the timer and progress of a background build."""
-
-    def __init__(self, context):
-        self.wm, self.window = context.window_manager, context.window
-        self.workspace, self.area = getattr(context, "workspace", None), context.area
-        self.timer = self.wm.event_timer_add(TIMER_STEP, window=self.window)
-        self.wm.progress_begin(0, 100)
-
-    @staticmethod
-    def _try(call, *args):
-        try:
-            call(*args)
-        except ReferenceError:  # the area, window or workspace was closed meanwhile
-            pass
-
-    def progress(self, fraction, message):
-        self._try(self.wm.progress_update, int(100 * fraction))
-        self.text(f"Geodesic probe: {message} ({100 * fraction:.0f}%)", "Esc: cancel")
-
-    def ready(self):
-        """The build is over: no more timer or progress."""
-        if self.timer is not None:
-            self._try(self.wm.event_timer_remove, self.timer)
-            self._try(self.wm.progress_end)
-            self.timer = None
-
-    def text(self, message, keys):
-        self._try(self.area.header_text_set, message)
-        if self.workspace is not None:
-            self._try(self.workspace.status_text_set, keys)
-
-    def end(self):
-        self.ready()
-        self._try(self.area.header_text_set, None)
-        if self.workspace is not None:
-            self._try(self.workspace.status_text_set, None)
-
-
 def occluder(depsgraph, obj_name, origin, direction, depth):
     """The name of another object the ray hits before ``depth`` (in front of the probed object), or None.
 
@@ -346,8 +308,9 @@ class MESH_OT_heat_geodesic_probe(bpy.types.Operator):
         for note in probe.notes:
             self.report({"WARNING"}, note)
         press = event if self.release_confirms else None
-        self._session = ProbeSession(probe, ProbeDisplay(context), view_locate(region, area.spaces.active.region_3d,
-                                     probe), self.report, self.release_confirms, press)
+        display = ProgressDisplay(context, "Geodesic probe")
+        self._session = ProbeSession(probe, display, view_locate(region, area.spaces.active.region_3d, probe),
+                                     self.report, self.release_confirms, press)
         if self._session.probe.ended:  # the tool's click was off the mesh
             return {"CANCELLED"}
         context.window_manager.modal_handler_add(self)

@@ -3,7 +3,7 @@
 Drives the modal operator's logic (``ModalRun``, which the operator's ``modal``
 calls on each event) headless through ``bpy``: the worker thread builds the
 solver while the main thread runs a 10 ms ticker, as Blender's event loop
-would, and delivers a timer event every 0.1 s (the operator's ``TIMER_STEP``).
+would, and delivers a timer event every 0.1 s (``blender_addon.display.TIMER_STEP``).
 Measured on the main thread:
 
 - ``prepare``: the click itself (options checked, mesh read and hashed, cache looked up);
@@ -36,6 +36,7 @@ TICK = 0.01
 def measure(obj, backend):
     stages = importlib.import_module("blender_addon.stages")
     operator = importlib.import_module("blender_addon.operator")
+    display = importlib.import_module("blender_addon.display")
     stages.SOLVERS.clear()
 
     class Display:
@@ -65,7 +66,7 @@ def measure(obj, backend):
                 finish = spent
                 break
             handle_max = max(handle_max, spent)
-            next_timer = now + operator.TIMER_STEP
+            next_timer = now + display.TIMER_STEP
         last = time.perf_counter()
     total = time.perf_counter() - t0
     updates = modal.build.updates

@@ -275,7 +275,7 @@ def test_a_failing_build_is_reported_and_writes_nothing(modules):
 
 
 def test_headless_operator_stays_synchronous_and_the_display_calls_exist(modules, monkeypatch):
-    background, operator = modules["background"], modules["operator"]
+    background = modules["background"]
     obj = ico_sphere(3)
     select_only(obj, [0])
 
@@ -291,7 +291,7 @@ def test_headless_operator_stays_synchronous_and_the_display_calls_exist(modules
     area = next(a for a in window.screen.areas if a.type == "VIEW_3D")
     with bpy.context.temp_override(window=window, area=area):
         display = modules["display"].ProgressDisplay(bpy.context, "Geodesic distance")
-        assert display.timer.time_step == pytest.approx(operator.TIMER_STEP)
+        assert display.timer.time_step == pytest.approx(modules["display"].TIMER_STEP)
         display.progress(0.42, "factoring the heat matrix")
         display.text("Geodesic probe: click on the surface", "Esc: cancel")
         display.ready()

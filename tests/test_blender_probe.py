@@ -60,7 +60,7 @@ class Event:
 
 
 class RecordingDisplay:
-    """Stands in for ProbeDisplay (header, status bar, build progress)."""
+    """Stands in for the ProgressDisplay (header, status bar, build progress)."""
 
     def __init__(self):
         self.texts, self.progresses, self.ended, self.readied = [], [], 0, 0

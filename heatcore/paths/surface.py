@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from ..domains.intrinsic import NEXT, PREV, halfedge_twins
 from ..domains.sources import barycentric_array, index_list
 from ..errors import InvalidSourceError
 
@@ -133,19 +134,11 @@ class PathMesh:
         self.positions = P = np.asarray(domain.vertices, dtype=float)[self.input_vertex]
         self.diagonal = float(np.linalg.norm(P.max(axis=0) - P.min(axis=0))) if n else 0.0
         m = F.shape[0]
-        # Edges: half-edge 3 f + j from corner j to corner j + 1; twins are the pairs of exactly two.
-        a, b = F, F[:, [1, 2, 0]]
-        key = (np.minimum(a, b) * n + np.maximum(a, b)).ravel()
-        order = np.argsort(key, kind="stable")
-        k = key[order]
-        start = np.r_[True, k[1:] != k[:-1]]
-        run = np.diff(np.r_[np.flatnonzero(start), k.size])
-        pair = np.flatnonzero(start)[run == 2]
-        h0, h1 = order[pair], order[pair + 1]
-        twin = np.full(3 * m, -1, dtype=np.int64)
-        twin[h0], twin[h1] = h1, h0
-        self.neighbor = np.where(twin >= 0, twin // 3, -1).reshape(m, 3)
-        self.neighbor_edge = np.where(twin >= 0, twin % 3, -1).reshape(m, 3)
+        # Edges: edge j of a face runs from corner j to j + 1, the half-edge opposite corner j + 2 (PREV[j]) of
+        # halfedge_twins, whose twins are paired whatever their directions (oriented=False).
+        twin = halfedge_twins(F, oriented=False).reshape(m, 3)[:, PREV]
+        self.neighbor = np.where(twin >= 0, twin // 3, -1)
+        self.neighbor_edge = np.where(twin >= 0, NEXT[twin % 3], -1)
         # Faces around each vertex (CSR).
         corner_vertex = F.ravel()
         by_vertex = np.argsort(corner_vertex, kind="stable")
