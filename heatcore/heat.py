@@ -40,7 +40,7 @@ from .steps.blocks import block_columns, source_sequence
 from .steps.factors import HeatStep, SolverFactors
 from .steps.poisson import MAX_PRECOMPUTED_PINS
 from .steps.source_bounds import source_bounds
-from .steps.time_step import underflow_safe_m
+from .steps.time_step import underflow_safe_m, vertex_time_steps
 from .steps.unit_field import minus_divergence, minus_divergence_columns, unit_field
 from .voronoi import nearest_source
 
@@ -149,7 +149,7 @@ class HeatSolver:
                      "above double-precision underflow everywhere", self.hop_diameter, self.m, self.m_effective)
         ground = first_of_each(self.component, self.n_components)
         h = np.broadcast_to(ops.mean_edge_length, (n,))
-        step = self.part_m[self.component] * h * h  # in each vertex's unit; constant on each component
+        step = vertex_time_steps(self.part_m, self.component, ops.mean_edge_length)  # in each vertex's unit
         time_step = step[0] if (step == step[0]).all() else step
         self._element_h = h[0] if (h == h[0]).all() else h[ops.elements[:, 0]]
         self.t = np.ldexp(step[ground], 2 * np.broadcast_to(ops.unit_exponent, (n,))[ground])
