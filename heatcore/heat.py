@@ -137,6 +137,20 @@ class HeatSolver:
         if not deferred:
             self.factors.start()
 
+        heat = self._heat_step(ops)
+        self._gradient_transposed = ops.gradient.T  # a view: -div X = G^T (volumes * X)
+        self.timings["setup"] = time.perf_counter() - start
+        if deferred:
+            self.factors.defer(heat, progress)
+        else:
+            self.factors.build(heat, progress)
+        log.info("heat solver ready: %d operator vertices, %d components, t=%.3g..%.3g, boundary=%s (%.2f s)", n,
+                 self.n_components, self.t.min(), self.t.max(), self.boundary, sum(self.timings.values()))
+        progress(1.0, "heat solver ready")
+
+    def _heat_step(self, ops):
+        """Connected components, each one's time factor (``m`` raised by the underflow guard) and time step."""
+        n = ops.n_vertices
         graph = vertex_graph(ops.elements, n)
         self.n_components, self.component = vertex_components(ops.elements, n, graph)
         hops = hop_diameters(graph, self.component, self.n_components)
@@ -150,19 +164,10 @@ class HeatSolver:
         ground = first_of_each(self.component, self.n_components)
         h = np.broadcast_to(ops.mean_edge_length, (n,))
         step = vertex_time_steps(self.part_m, self.component, ops.mean_edge_length)  # in each vertex's unit
-        time_step = step[0] if (step == step[0]).all() else step
         self._element_h = h[0] if (h == h[0]).all() else h[ops.elements[:, 0]]
         self.t = np.ldexp(step[ground], 2 * np.broadcast_to(ops.unit_exponent, (n,))[ground])
-        self._gradient_transposed = ops.gradient.T  # a view: -div X = G^T (volumes * X)
-        self.timings["setup"] = time.perf_counter() - start
-        heat = HeatStep(time_step, self.boundary, self.component, self.n_components, ground)
-        if deferred:
-            self.factors.defer(heat, progress)
-        else:
-            self.factors.build(heat, progress)
-        log.info("heat solver ready: %d operator vertices, %d components, t=%.3g..%.3g, boundary=%s (%.2f s)", n,
-                 self.n_components, self.t.min(), self.t.max(), self.boundary, sum(self.timings.values()))
-        progress(1.0, "heat solver ready")
+        time_step = step[0] if (step == step[0]).all() else step
+        return HeatStep(time_step, self.boundary, self.component, self.n_components, ground)
 
     @property
     def heat_flow(self):
