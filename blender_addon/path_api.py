@@ -208,7 +208,7 @@ def geodesic_path(obj, source=None, target=None, *, select_edges=False, space="W
         build_solver(run, progress)
         SOLVERS.store(run.cache_id, run.key, run.solver)
     try:
-        path = run.solver.geodesic_path(int(source), int(target))
+        path = run.placement.path(run.solver.geodesic_path(int(source), int(target)))
     except heatcore.InvalidSourceError as exc:  # a bad index, a loose vertex, another part
         raise AddonError(f"{obj.name}: {exc}") from None
     edge_ids = np.zeros(0, dtype=np.int64)

@@ -30,18 +30,17 @@ import numpy as np
 from ._heatcore import heatcore
 from .adapters import AddonError
 from .background import DONE, FAILED, RUNNING, BackgroundBuild
-from .cache import SOLVERS, geometry_key, same_key
+from .cache import SOLVERS, same_key
 from .outputs import check_outputs, write_outputs
 from .overlay import Overlay, OverlayData, color_table
-from .polygons import key_options
 from .curves import path_available, write_probe_curves
 from .probe_surface import DisplayedSurface, displayed_positions
 from .stages import (
     GeodesicResult,
     build_solver,
+    current_key,
     find_object,
     prepare_run,
-    read_geometry,
 )
 
 #: Probes running now: the depsgraph handler flags them when anything changes.
@@ -198,8 +197,7 @@ class GeodesicProbe:
         """
         obj = self.object()
         run = self.run
-        V, topology, _ = read_geometry(obj, run.space, run.shape)
-        key = geometry_key(V, topology, key_options(run.settings, run.as_polygons, run.points_only), copy=False)
+        key, _ = current_key(obj, run)  # the placement is checked with the displayed positions
         if not same_key(run.key, key) or not np.array_equal(displayed_positions(obj, run), self.surface.positions):
             when = "while its solver was being built" if built else "while the geodesic probe ran"
             raise AddonError(f"{obj.name!r} changed {when} (its shape or its vertices); nothing was written: "
@@ -291,10 +289,10 @@ class GeodesicProbe:
         vertices = [s for s, b in self.sources if b is None]
         points = [(s, b) for s, b in self.sources if b is not None]
         try:
-            self.distance = self.run.solver.distance(
+            self.distance = self.run.placement.distance(self.run.solver.distance(
                 vertices or None,
                 points=(np.array([f for f, _ in points]), np.array([b for _, b in points])) if points else None,
-            )
+            ))
         except heatcore.HeatcoreError:
             undo()  # the field stays that of the sources before
             raise
@@ -348,7 +346,8 @@ class GeodesicProbe:
         if self.target is None or not self.sources:
             return None
         target = self.target[0] if self.target[1] is None else self.target
-        paths = [self.run.solver.geodesic_path(s if b is None else (s, b), target) for s, b in self.sources]
+        paths = [self.run.placement.path(self.run.solver.geodesic_path(s if b is None else (s, b), target))
+                 for s, b in self.sources]
         self.path = min(paths, key=lambda p: p.length)
         self._show()
         return self.path

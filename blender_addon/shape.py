@@ -23,6 +23,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .adapters import AddonError, vertex_positions
+from .cache import placed
 from .material import is_isoline_modifier
 
 SPACES = ("WORLD", "LOCAL")
@@ -105,6 +106,8 @@ def displayed_positions(obj):
 def measured_positions(obj, space="WORLD", shape="EVALUATED"):
     """Vertex positions of ``obj``'s mesh where the distance is measured, and the modifiers skipped.
 
+    The positions of :func:`object_positions` placed by :func:`measured_frame`.
+
     Parameters
     ----------
     obj : bpy.types.Object
@@ -118,16 +121,26 @@ def measured_positions(obj, space="WORLD", shape="EVALUATED"):
     skipped : list of str
         Topology-changing modifiers left out (``shape="EVALUATED"`` only).
     """
-    check_choice("space", space, SPACES)
-    check_choice("shape", shape, SHAPES)
-    if shape == "EVALUATED":
-        V, skipped = displayed_positions(obj)
-    else:
-        V, skipped = vertex_positions(obj.data), []
-    if space == "WORLD":
-        M = np.array(obj.matrix_world, dtype=np.float64)
-        V = V @ M[:3, :3].T + M[:3, 3]
-    return V, skipped
+    frame = measured_frame(obj, space)
+    V, skipped = object_positions(obj, shape)
+    return placed(V, frame), skipped
+
+
+def object_positions(obj, shape="EVALUATED"):
+    """The vertex positions of ``shape`` in ``obj``'s own coordinates, and the modifiers skipped (see
+    :func:`measured_positions`)."""
+    if check_choice("shape", shape, SHAPES) == "EVALUATED":
+        return displayed_positions(obj)
+    return vertex_positions(obj.data), []
+
+
+def measured_frame(obj, space="WORLD"):
+    """The 4x4 matrix from ``obj``'s own coordinates to those of ``space``: its world matrix (float64), or None
+    for ``"LOCAL"``. The cache keys the geometry by the object's coordinates and this frame
+    (:func:`~.cache.geometry_key`), so that moving the object keeps its solver."""
+    if check_choice("space", space, SPACES) == "WORLD":
+        return np.array(obj.matrix_world, dtype=np.float64)
+    return None
 
 
 #: Custom property marking the objects :func:`evaluated_copy` made (value: the original's name).

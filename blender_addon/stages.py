@@ -31,10 +31,16 @@ import numpy as np
 from . import adapters
 from ._heatcore import heatcore
 from .adapters import AddonError
-from .cache import SOLVERS, geometry_key, same_key
+from .cache import IDENTITY, SOLVERS, Placement, geometry_key, placed, same_key
 from .outputs import OUTPUT_NAMES, check_outputs, write_outputs
 from .polygons import key_options, polygon_arrays, polygon_domain, use_polygons
-from .shape import COPY_MARKER, evaluated_copy, measured_positions, nearest_vertices
+from .shape import (
+    COPY_MARKER,
+    evaluated_copy,
+    measured_frame,
+    nearest_vertices,
+    object_positions,
+)
 
 #: ``heatcore.options``: every option's name, range, default and help (the bundled copy's).
 options = importlib.import_module(heatcore.__name__ + ".options")
@@ -115,6 +121,12 @@ class PreparedRun:
     (``Settings.of("blender", ...)``, built for reuse: the solver is cached),
     whose mesh part builds the domain and solver part the solver;
     ``points_only`` says that the mesh has no faces (a point cloud).
+    ``V`` are the measured positions (World space: placed by the object's
+    world matrix), ``key`` holds the object's own and the matrix (the
+    *frame*: :func:`~.cache.geometry_key`), so that a cached solver built
+    before the object moved is found; ``placement`` maps the solver's
+    coordinates and lengths to the run's (:class:`~.cache.Placement`: the
+    identity, but for a cached solver built at another place or uniform scale).
     """
 
     object_name: str
@@ -139,6 +151,7 @@ class PreparedRun:
     solver: object = None
     cached: bool = False
     solver_seconds: float = 0.0
+    placement: object = IDENTITY
 
 
 def resolve_sources(obj, sources=None, vertex_group=None, F=None, notes=None):
@@ -210,7 +223,9 @@ def _renamed(solver_options):
 
 
 def read_geometry(obj, space, shape, new_object=False):
-    """Measured positions (``space``, ``shape``), what fixes the triangles, and skipped modifiers, Edit Mode synced first.
+    """Positions in object coordinates (``shape``), what fixes the triangles, skipped modifiers, and the frame
+    of ``space`` (:func:`~.shape.measured_frame`: the measured positions are ``placed(V, frame)``), Edit Mode
+    synced first.
 
     The second value is a tuple of arrays that, with the positions, fixes
     the triangles (the cache key): the mesh's face corners, triangle-to-face
@@ -218,14 +233,15 @@ def read_geometry(obj, space, shape, new_object=False):
     where copying the triangles out takes 0.15 s at 500k vertices), or with
     ``new_object`` the triangles themselves and the faces as ``(offsets,
     indices)`` (:func:`read_triangles` gives the triangles in both cases). ``new_object``: the whole evaluated mesh (every
-    modifier applied) as :func:`~.shape.evaluated_copy` will hold it, read
+    modifier applied) as :func:`~.shape.evaluated_copy` will hold it (placed as ``obj``), read
     without making data.
     """
     if obj.mode == "EDIT":
         obj.update_from_editmode()
+    frame = measured_frame(obj, space)
     if not new_object:
-        V, skipped = measured_positions(obj, space, shape)
-        return V, (*adapters.topology(obj.data), adapters.vertex_positions(obj.data)), skipped
+        V, skipped = object_positions(obj, shape)
+        return V, (*adapters.topology(obj.data), adapters.vertex_positions(obj.data)), skipped, frame
     evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
     try:
         mesh = evaluated.to_mesh()
@@ -233,10 +249,29 @@ def read_geometry(obj, space, shape, new_object=False):
         offsets, indices = polygon_arrays(mesh)  # a Subdivision's quads are measured as polygons
     finally:
         evaluated.to_mesh_clear()
-    if space == "WORLD":  # as measured_positions(copy, "WORLD", "BASIS") with the copy placed as obj
-        M = np.array(obj.matrix_world, dtype=np.float64)
-        V = V @ M[:3, :3].T + M[:3, 3]
-    return V, (F, offsets, indices), []
+    return V, (F, offsets, indices), [], frame
+
+
+def run_key(V, topology, frame, settings, as_polygons, points_only, copy=False):
+    """The cache key of a run's geometry (:func:`read_geometry`'s) and settings: a uniform scale of the frame
+    keeps it unless an option is a length (a weld tolerance).
+
+    Examples
+    --------
+    >>> V, topology, _, frame = read_geometry(obj, "WORLD", "EVALUATED")              # doctest: +SKIP
+    >>> same_key(run.key, run_key(V, topology, frame, run.settings, False, False))      # doctest: +SKIP
+    True
+    """
+    options = key_options(settings, as_polygons, points_only)
+    return geometry_key(V, topology, options, copy=copy, frame=frame, rescale=not settings.mesh.weld)
+
+
+def current_key(obj, run):
+    """The cache key of ``obj``'s geometry as ``run`` measures it now, to compare with ``run.key``
+    (:func:`~.cache.same_key`), and the placement of ``run``'s solver in it."""
+    V, topology, _, frame = read_geometry(obj, run.space, run.shape, run.new_object)
+    key = run_key(V, topology, frame, run.settings, run.as_polygons, run.points_only)
+    return key, Placement.between(run.key[2], frame)
 
 
 def read_triangles(obj, topology, new_object=False):
@@ -283,9 +318,9 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
     if new_object:
         if shape != "EVALUATED":
             raise AddonError("new_object=True measures the evaluated mesh: it needs shape='EVALUATED'")
-        cage, _ = measured_positions(obj, "LOCAL", "EVALUATED")
+        cage, _ = object_positions(obj, "EVALUATED")
         src = cage[src]  # mapped onto the copy's vertices when it is made
-    V, topology, skipped = read_geometry(obj, space, shape, new_object)
+    V, topology, skipped, frame = read_geometry(obj, space, shape, new_object)
     if skipped:
         notes.append(f"{obj.name}: distance measured without the modifiers that change its vertices "
                      f"({', '.join(skipped)}), on the deformed cage of its own vertices")
@@ -293,22 +328,24 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
     as_polygons = use_polygons(polygons, mesh, settings, points_later=sources_later,
                                offsets=topology[1] if new_object else None)
     points_only = not topology[0].size  # no face corners (no triangles): a point cloud, which takes refine only
-    domain_options = key_options(settings, as_polygons, points_only)
-    key = geometry_key(V, topology, domain_options, copy=False)
+    key = run_key(V, topology, frame, settings, as_polygons, points_only)
     run = PreparedRun(
-        object_name=obj.name, object_uid=obj.session_uid, mesh_uid=mesh.session_uid, V=V, F=None, sources=src,
-        skipped_modifiers=skipped, space=space, shape=shape, settings=settings, points_only=points_only,
-        outputs=outputs, key=key, start=start, notes=notes, new_object=new_object,
+        object_name=obj.name, object_uid=obj.session_uid, mesh_uid=mesh.session_uid, V=placed(V, frame),
+        F=None, sources=src, skipped_modifiers=skipped, space=space, shape=shape, settings=settings,
+        points_only=points_only, outputs=outputs, key=key, start=start, notes=notes, new_object=new_object,
         cache_id=(COPY_MARKER, obj.session_uid) if new_object else ("polygons", mesh.session_uid) if as_polygons
         else mesh.session_uid, as_polygons=as_polygons,  # a mesh's polygon and triangle solvers: side by side
     )
-    run.solver = SOLVERS.lookup(run.cache_id, key)
-    run.cached = run.solver is not None
-    if not run.cached:
+    entry = SOLVERS.entry(run.cache_id, key)  # built on this shape, maybe elsewhere or at another uniform scale
+    run.cached = entry is not None
+    if run.cached:  # run.key: the solver's own, in the frame it was built in
+        run.key, run.solver = entry
+        run.placement = Placement.between(run.key[2], frame)
+    else:
         SOLVERS.discard(run.cache_id)  # free the stale solver before building
         run.F = read_triangles(obj, topology, new_object)  # also for polygons: merged duplicates are measured as triangles
         run.polygons = (topology[1:] if new_object else polygon_arrays(mesh)) if as_polygons else None
-        run.key = geometry_key(V, topology, domain_options)  # kept with the solver: copied
+        run.key = run_key(V, topology, frame, settings, as_polygons, points_only, copy=True)  # kept with the solver
     return run
 
 
@@ -348,7 +385,8 @@ def find_object(run):
 def check_unchanged(run):
     """The run's object, once checked to exist still and to measure the shape the solver was built on.
 
-    After a background build, during which the user could go on working.
+    After a background build, during which the user could go on working: a
+    move of the object meanwhile is allowed (``run.placement`` follows it).
 
     Raises
     ------
@@ -359,14 +397,14 @@ def check_unchanged(run):
     obj = find_object(run)
     if obj is None:
         raise AddonError(f"{run.object_name!r} was deleted while its solver was being built; nothing was written")
-    V, topology, _ = read_geometry(obj, run.space, run.shape, run.new_object)
-    options = key_options(run.settings, run.as_polygons, run.points_only)  # as prepare_run's key
-    if not same_key(run.key, geometry_key(V, topology, options, copy=False)):
+    key, placement = current_key(obj, run)
+    if not same_key(run.key, key):
         raise AddonError(
             f"{obj.name!r} changed while its solver was being built (its shape or its vertices); "
             "nothing was written: run it again"
         )
     check_outputs(obj, **run.outputs)
+    run.placement = placement
     return obj
 
 
@@ -391,7 +429,7 @@ def finish_run(run, progress=None, obj=None):
         obj = evaluated_copy(obj)
         sources = np.unique(nearest_vertices(obj, run.sources))
     progress(0.8, "solving for the distance")
-    d = run.solver.distance(sources)
+    d = run.placement.distance(run.solver.distance(sources))
     hint = None if run.points_only else merge_hint(run.V, d, run.settings.mesh.weld)
     if hint:
         run.notes.append(hint)

@@ -27,9 +27,9 @@ import numpy as np
 from . import adapters
 from ._heatcore import heatcore
 from .adapters import AddonError
-from .cache import SOLVERS, geometry_key
+from .cache import SOLVERS, geometry_key, placed
 from .polygons import key_options
-from .shape import measured_positions
+from .shape import measured_frame, object_positions
 from .stages import FRONT_END_OPTIONS, Settings
 
 #: The UV map's default name.
@@ -183,16 +183,20 @@ def edge_direction(obj, vertex, V):
     return V[other] - V[vertex]
 
 
-def _solver(obj, V, topology, settings):
-    """The mesh's cached :class:`heatcore.VectorHeatSolver` for this geometry and these settings (built on a miss)."""
+def _solver(obj, local, frame, topology, settings):
+    """The mesh's cached :class:`heatcore.VectorHeatSolver` for this geometry (object coordinates ``local``
+    placed by ``frame``) and these settings (built on a miss)."""
     given = key_options(settings, False)
+    V = placed(local, frame)
 
     def build():
         # The distance's solver of this geometry, if cached, has the domain (and its scalar factorizations):
-        # looked up with these settings, and with the same mesh options and the distance's default solver options.
+        # looked up with these settings, and with the same mesh options and the distance's default solver options;
+        # only one built in this very frame (the log map's directions turn with the object).
         default_solver = Settings.of("blender", **{k: getattr(settings.mesh, k) for k in settings.mesh.given})
         keys = (given, key_options(default_solver, False))
-        distance = next((found for found in (SOLVERS.lookup(obj.data.session_uid, geometry_key(V, topology, o, False))
+        distance = next((found for found in (SOLVERS.lookup(obj.data.session_uid,
+                                                            geometry_key(local, topology, o, False, frame), exact=True)
                                              for o in keys) if found is not None), None)
         if distance is not None:
             domain = distance.domain
@@ -328,7 +332,9 @@ def geodesic_uv_map(obj, vertex=None, *, point=None, name=DEFAULT_UV_MAP, unit=N
         raise AddonError("give a vertex or a point, not both")
     if obj.mode == "EDIT":
         obj.update_from_editmode()
-    V, _ = measured_positions(obj, space, shape)
+    frame = measured_frame(obj, space)
+    local, _ = object_positions(obj, shape)
+    V = placed(local, frame)
     if vertex is not None and not 0 <= int(vertex) < len(V):
         raise AddonError(f"vertex {vertex} is not a vertex of {obj.name!r} ({len(V):,} vertices)")
     if isinstance(up, str):
@@ -341,7 +347,8 @@ def geodesic_uv_map(obj, vertex=None, *, point=None, name=DEFAULT_UV_MAP, unit=N
         reference = _to_space(obj, up, space)
     if not np.all(np.isfinite(reference)) or not np.any(reference):
         raise AddonError(f"the up direction must be a nonzero vector, got {tuple(np.ravel(up))}")
-    solver, cached = _solver(obj, V, (*adapters.topology(obj.data), adapters.vertex_positions(obj.data)), settings)
+    solver, cached = _solver(obj, local, frame, (*adapters.topology(obj.data), adapters.vertex_positions(obj.data)),
+                             settings)
     try:
         if vertex is not None:
             log_map = solver.log_map(int(vertex), reference=reference)
