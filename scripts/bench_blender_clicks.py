@@ -46,9 +46,9 @@ MESHES = {
 STAGES = [
     ("sources", "stages.resolve_sources"),
     ("topology", "adapters.topology"),
-    ("shape", "stages.measured_positions"),
+    ("shape", "stages.object_positions"),
     ("positions (key)", "adapters.vertex_positions"),
-    ("cache lookup", "cache.SOLVERS.lookup"),
+    ("cache lookup", "cache.SOLVERS.entry"),
     ("colorize", "outputs.colormaps.colorize"),
     ("write distance", "adapters.write_float_attribute"),
     ("write colors", "adapters.write_color_attribute"),
@@ -138,7 +138,7 @@ class Stages:
             finally:
                 self.seconds[label] += time.perf_counter() - start
             if label == "cache lookup" and result is not None:
-                self._time_queries(result)
+                self._time_queries(result[1])  # SolverCache.entry: (key, solver)
             return result
 
         setattr(owner, name, timed)
