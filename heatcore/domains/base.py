@@ -296,6 +296,12 @@ class MeshDomain(Domain):
         mapped = self.vertex_map[v]
         if (mapped < 0).any():
             bad = int(v[mapped < 0][0])
+            flat = getattr(self, "flat_vertices", None)
+            if flat is not None and flat[bad]:
+                raise InvalidSourceError(
+                    f"vertex {bad} lies on a part with no area (the corners of all its {self.element_name}s are "
+                    "collinear or coincident), so heat cannot spread from it; it cannot be a source"
+                )
             raise InvalidSourceError(f"vertex {bad} is not used by any {self.element_name}, so it cannot be a source")
         return mapped
 

@@ -27,6 +27,7 @@ from ..progress import Progress
 from ..settings import MeshSettings
 from .base import MeshDomain
 from .cotan import intrinsic_operators
+from .flat_parts import flat_part_faces
 from .intrinsic import face_edge_lengths
 from .parts import in_part_units, unit_exponents, vertex_components
 from .refine import (
@@ -58,8 +59,11 @@ class TriangleMesh(MeshDomain):
     V : (n, 3) array_like of float
         Vertex positions.
     F : (m, 3) array_like of int
-        Triangles (vertex indices). Faces with repeated vertices and duplicate
-        faces are ignored with a warning; unreferenced vertices get ``inf``.
+        Triangles (vertex indices). Faces with repeated vertices, duplicate
+        faces and connected parts whose faces all have no area (collinear or
+        coincident corners: :mod:`heatcore.domains.flat_parts`) are ignored
+        with a warning; unreferenced vertices get ``inf``. A mesh with no area
+        at all is an :class:`~heatcore.errors.InvalidMeshError`.
     settings : MeshSettings or Settings, optional
         The mesh options, checked (:mod:`heatcore.settings`), as front ends
         hand them over; the keywords below (checked here) change them.
@@ -149,12 +153,7 @@ class TriangleMesh(MeshDomain):
         progress(0.0, "welding coincident vertices" if tolerance is not None else "reading the triangles")
         representative, self.n_welded = weld_map(self.vertices, tolerance) if tolerance is not None else (None, 0)
         faces = representative[self.faces] if self.n_welded else self.faces  # no copy where nothing was welded
-        kept = clean_elements(faces)
-        if not kept.any():
-            welded = " once coincident vertices are welded" if self.n_welded else ""
-            raise InvalidMeshError(
-                f"every face has a repeated vertex{welded}: all edges have zero length, the mesh has no area"
-            )
+        kept = self._faces_with_area(faces)
         progress(0.1, "finding connected parts")
         used = np.flatnonzero(np.bincount(faces[kept].ravel(), minlength=n))  # np.unique's result, no sort
         compact = np.full(n, -1, dtype=np.int64)
@@ -169,7 +168,8 @@ class TriangleMesh(MeshDomain):
         self.n_parts, part = vertex_components(F_used, used.size)
         if refine == "auto":
             sizes = np.bincount(part, minlength=self.n_parts)
-            self.part_levels, cap = budgeted_levels(sizes, auto_refine_levels(sizes))
+            work = np.maximum(sizes, np.bincount(part[F_used[:, 0]], minlength=self.n_parts) // 2)  # soups: faces
+            self.part_levels, cap = budgeted_levels(work, auto_refine_levels(sizes))
             if cap is not None:
                 warnings.warn(
                     f"refine='auto': {self.n_parts:,} parts refined to at most {cap} levels each (not the "
@@ -189,6 +189,34 @@ class TriangleMesh(MeshDomain):
         self.subdivision = midpoint_subdivide(in_part_units(V_used, part, self.unit_exponent), F_used, face_levels)
         self.operators = self._build_operators(self.subdivision.carry(part, F_used), progress.part(0.4, 1.0))
         progress(1.0, "triangle mesh ready")
+
+    def _faces_with_area(self, faces):
+        """The faces kept: no repeated vertex, no duplicate, not in a part with no area (:mod:`.flat_parts`)."""
+        kept = clean_elements(faces, stacklevel=4)
+        welded = " once coincident vertices are welded" if self.n_welded else ""
+        if not kept.any():
+            raise InvalidMeshError(
+                f"every face has a repeated vertex{welded}: all edges have zero length, the mesh has no area"
+            )
+        flat = np.zeros_like(kept)
+        flat[kept] = flat_part_faces(self.vertices, faces[kept])
+        self.flat_vertices = np.zeros(self.vertices.shape[0], dtype=bool)
+        if not flat.any():
+            return kept
+        if flat[kept].all():
+            raise InvalidMeshError(
+                f"the mesh has no area{welded}: the corners of every face are collinear or coincident, "
+                "so there is no surface for heat to spread on"
+            )
+        self.flat_vertices[faces[flat].ravel()] = True
+        self.flat_vertices[faces[kept & ~flat].ravel()] = False  # a vertex shared with a real part stays
+        warnings.warn(
+            f"ignored {int(flat.sum()):,} faces on {int(self.flat_vertices.sum()):,} vertices: they form parts "
+            "with no area (collinear or coincident corners); those vertices are unreachable (inf)",
+            HeatcoreWarning,
+            stacklevel=3,
+        )
+        return kept & ~flat
 
     def _build_operators(self, part, progress=None):
         sub = self.subdivision
@@ -259,8 +287,9 @@ class TriangleMesh(MeshDomain):
         ignored = fi[self.face_map[fi] < 0]
         if ignored.size:
             raise InvalidSourceError(
-                f"face {int(ignored[0])} was ignored (it has repeated vertices, after welding, or duplicates "
-                "another face), so a point on it cannot be a source; use a vertex or another face"
+                f"face {int(ignored[0])} was ignored (it has repeated vertices, after welding, duplicates "
+                "another face, or lies in a part with no area), so a point on it cannot be a source; use a "
+                "vertex or another face"
             )
         sub = self.subdivision
         for k in range(fi.size):  # a handful of points: one pin set per point

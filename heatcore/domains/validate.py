@@ -135,7 +135,7 @@ def _may_have_duplicate_rows(S):
     return bool((key[1:] == key[:-1]).any())
 
 
-def clean_elements(E, element="face"):
+def clean_elements(E, element="face", stacklevel=3):
     """Drop elements with repeated vertices and duplicates of another element.
 
     Both are harmless to drop: a repeated-vertex element has no area, and a
@@ -146,6 +146,8 @@ def clean_elements(E, element="face"):
     E : (m, k) int array
     element : str, default "face"
         What an element is called in the warning.
+    stacklevel : int, default 3
+        The warning's ``stacklevel`` (3: the caller of the function that calls this one).
 
     Returns
     -------
@@ -172,6 +174,6 @@ def clean_elements(E, element="face"):
         warnings.warn(
             f"ignored {n_rep} {element}s with repeated vertices and {n_dup} duplicate {element}s",
             HeatcoreWarning,
-            stacklevel=3,
+            stacklevel=stacklevel,
         )
     return kept
