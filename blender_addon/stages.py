@@ -118,7 +118,7 @@ class PreparedRun:
     displayed: the copy is made, and the sources mapped onto it, only when
     the result is written (:func:`finish_run`), so that a cancelled run makes
     nothing. ``settings`` is the run's one ``heatcore.settings.Settings``
-    (``Settings.of("blender", ...)``, built for reuse: the solver is cached),
+    (``Settings.of("blender", intent="interactive", ...)``: the solver is cached),
     whose mesh part builds the domain and solver part the solver;
     ``points_only`` says that the mesh has no faces (a point cloud).
     ``V`` are the measured positions (World space: placed by the object's
@@ -306,7 +306,8 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
     mesh = obj.data
     outputs = check_outputs(obj, source_group=vertex_group if sources is None else None,
                             **{k: run_options.pop(k) for k in OUTPUT_NAMES if k in run_options})
-    settings = Settings.of("blender", **_renamed(run_options))  # Blender's defaults (weld off); kept for reuse
+    # Blender's defaults (weld off); kept for the next clicks, but the first answer is waited for
+    settings = Settings.of("blender", intent="interactive", **_renamed(run_options))
 
     progress(0.05, "reading mesh")
     if obj.mode == "EDIT":

@@ -63,7 +63,7 @@ def uv_settings(solver_options):
     unknown = sorted(set(solver_options) - set(VECTOR_OPTIONS))
     if unknown:
         raise AddonError(f"the UV map takes the options {', '.join(VECTOR_OPTIONS)}; not {', '.join(unknown)}")
-    return Settings.of("blender uv map", **solver_options)
+    return Settings.of("blender uv map", intent="interactive", **solver_options)
 
 
 @dataclass

@@ -112,11 +112,10 @@ def test_cholesky_of_a_negative_definite_matrix_raises_solver_error(backend):
 
 
 def test_auto_choice_by_size():
-    assert linalg.choose_backend(1000, "factor") == "qdldl"
+    assert linalg.choose_backend(1000, "factor") == "supernodal"  # the fastest factorization, solves as qdldl's
     assert linalg.choose_backend(1000, "solve") == "cholmod"
     big = linalg.SUPERNODAL_MIN_SIZE
     assert linalg.choose_backend(big, "factor") == linalg.choose_backend(big, "solve") == "supernodal"
-    assert linalg.choose_backend(1000, "once") == "supernodal"  # one query: the fastest factorization
     with pytest.raises(hc.SolverError):
         linalg.factor(heat_matrix(4, 4), "nope")
     with pytest.raises(hc.SolverError, match="prefer"):
@@ -139,7 +138,7 @@ def test_one_query_uses_the_fastest_factorization(monkeypatch):
     assert chosen[0] == "supernodal"
     assert np.allclose(d, reference, rtol=1e-9, atol=1e-12)
     monkeypatch.setitem(libraries._modules, "cvxopt", None)
-    assert linalg.choose_backend(1000, "once") == "qdldl"
+    assert linalg.choose_backend(1000, "factor") == "qdldl"
     assert np.allclose(hc.geodesic_distance(V, F, [0], refine=0), reference, rtol=1e-9, atol=1e-12)
     assert chosen[-1] == "qdldl"
 
@@ -172,10 +171,11 @@ def test_large_matrix_without_cvxopt_falls_back_and_hints_once(monkeypatch, capl
 
 
 def test_resolve_backend_takes_an_intent():
-    """'one query': the fastest factorization for both matrices; 'reuse': each stage its own; a name passes."""
+    """'one query' and 'interactive': the fastest factorization for both matrices; 'reuse': each stage its own."""
     for n in (1000, linalg.SUPERNODAL_MIN_SIZE):
         for stage in ("factor", "solve"):
-            assert linalg.resolve_backend("auto", n, intent="one query", stage=stage) == linalg.choose_backend(n, "once")
+            for intent in ("one query", "interactive"):
+                assert linalg.resolve_backend("auto", n, intent=intent, stage=stage) == linalg.choose_backend(n)
             assert linalg.resolve_backend("auto", n, intent="reuse", stage=stage) == linalg.choose_backend(n, stage)
             assert linalg.resolve_backend("superlu", n, intent="one query", stage=stage) == "superlu"
     assert linalg.resolve_backend("auto", 1000) == linalg.choose_backend(1000, "factor")

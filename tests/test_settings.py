@@ -80,7 +80,7 @@ def test_intent_decides_what_auto_stands_for():
     n = mesh.operators.n_vertices
     once = hc.HeatSolver(mesh, SolverSettings(intent="one query")).factors
     reuse = hc.HeatSolver(mesh).factors
-    assert once.heat_backend == once.poisson_backend == hc.linalg.choose_backend(n, "once")
+    assert once.heat_backend == once.poisson_backend == hc.linalg.choose_backend(n, "factor")
     assert (reuse.heat_backend, reuse.poisson_backend) == (hc.linalg.choose_backend(n, "factor"),
                                                            hc.linalg.choose_backend(n, "solve"))
     named = hc.HeatSolver(mesh, SolverSettings(backend="superlu", intent="one query")).factors

@@ -14,7 +14,7 @@ Examples
 --------
 >>> resolve_backend("superlu", 10)
 'superlu'
->>> resolve_backend("auto", 10, intent="one query") == choose_backend(10, "once")
+>>> resolve_backend("auto", 10, intent="one query", stage="solve") == choose_backend(10, "factor")
 True
 """
 
@@ -73,26 +73,27 @@ def available_backends():
 def choose_backend(n, prefer="factor"):
     """The backend "auto" uses for an ``n`` x ``n`` matrix.
 
-    ``supernodal`` from :data:`SUPERNODAL_MIN_SIZE` unknowns up, where
-    factoring dominates. Below, ``prefer="factor"`` (a matrix rebuilt often)
-    picks ``qdldl`` and ``prefer="solve"`` (a matrix kept for many solves)
-    picks ``cholmod``, whose solves are 1.5x faster than ``supernodal``'s.
-    ``prefer="once"`` (matrices factored for a single query, as
-    :func:`heatcore.geodesic_distance` does) picks ``supernodal`` at every
-    size where installed: it factors 2-7x faster than ``qdldl`` and
-    ``cholmod`` below :data:`SUPERNODAL_MIN_SIZE` (11,714 unknowns: 8 ms after
-    a 6 ms ordering shared by both matrices, against 20 ms and 51 ms), and
-    solves a little slower. Without cvxopt, large matrices go to ``cholmod``
-    above :data:`QDLDL_MAX_SIZE` (with a hint, once, to install the ``scale``
-    extra).
+    ``prefer="factor"`` (a matrix factored per solver and solved a few times
+    per query: the heat matrix, and both matrices of a single query) picks
+    ``supernodal`` at every size where installed: it factors 2-7x faster
+    than ``qdldl`` and ``cholmod`` below :data:`SUPERNODAL_MIN_SIZE` (11,714
+    unknowns: 8 ms after a 6 ms ordering shared by both matrices, against 20
+    ms and 51 ms) and its solves are as fast as ``qdldl``'s (49,971 unknowns:
+    a kept solver's query 13.0 ms with the supernodal heat factor, 16.4 ms
+    with ``qdldl``'s). Without cvxopt it picks ``qdldl``, or ``cholmod``
+    above :data:`QDLDL_MAX_SIZE` (with a hint, once, to install the
+    ``scale`` extra). ``prefer="solve"`` (a matrix kept for many solves: the
+    Laplacian of a solver kept for queries) picks ``cholmod`` below
+    :data:`SUPERNODAL_MIN_SIZE`, whose solves are 1.5x faster than
+    ``supernodal``'s once its slower factorization is paid, and
+    ``supernodal`` from there up.
 
     Parameters
     ----------
     n : int
         The number of unknowns.
-    prefer : {"factor", "solve", "once"}
-        What matters more: a fast factorization, fast solves, or both
-        factorizations of a single query.
+    prefer : {"factor", "solve"}
+        What matters more: a fast factorization or fast solves.
 
     Returns
     -------
@@ -103,24 +104,25 @@ def choose_backend(n, prefer="factor"):
     --------
     >>> choose_backend(10) in available_backends()
     True
-    >>> choose_backend(10, "once") in ("supernodal", "qdldl")
+    >>> choose_backend(10, "factor") in ("supernodal", "qdldl")
     True
     """
-    if prefer not in ("factor", "solve", "once"):
-        raise SolverError(f"prefer must be 'factor', 'solve' or 'once', not {prefer!r}")
+    if prefer not in ("factor", "solve"):
+        raise SolverError(f"prefer must be 'factor' or 'solve', not {prefer!r}")
     backends = available_backends()
-    if n >= SUPERNODAL_MIN_SIZE or (prefer == "once" and "supernodal" in backends):
+    if n >= SUPERNODAL_MIN_SIZE or prefer == "factor":
         if "supernodal" in backends:
             return "supernodal"
-        warn_once(
-            "scale extra",
-            "factoring %d unknowns without cvxopt: pip install 'heatcore[scale]' makes this several "
-            "times faster (supernodal CHOLMOD)",
-            n,
-            logger=log,
-        )
+        if n >= SUPERNODAL_MIN_SIZE:
+            warn_once(
+                "scale extra",
+                "factoring %d unknowns without cvxopt: pip install 'heatcore[scale]' makes this several "
+                "times faster (supernodal CHOLMOD)",
+                n,
+                logger=log,
+            )
     fast_factor = "qdldl" in backends and (n <= QDLDL_MAX_SIZE or "cholmod" not in backends)
-    if prefer != "solve" and fast_factor:
+    if prefer == "factor" and fast_factor:
         return "qdldl"
     return "cholmod" if "cholmod" in backends else backends[0]
 
@@ -135,10 +137,12 @@ def resolve_backend(backend, n, *, intent="reuse", stage="factor"):
         :func:`heatcore.linalg.factor` checks it).
     n : int
         The number of unknowns.
-    intent : {"reuse", "one query"}
+    intent : {"reuse", "one query", "interactive"}
         ``"one query"``: the matrices are factored for a single query, so
         both stages take the fastest factorization
-        (:func:`choose_backend` with ``"once"``). ``"reuse"``: a solver kept
+        (:func:`choose_backend` with ``"factor"``), as do those of
+        ``"interactive"`` (a solver kept for the next clicks, whose first
+        answer is waited for). ``"reuse"``: a solver kept
         for many queries, each stage its own (``choose_backend(n, stage)``).
     stage : {"factor", "solve"}
         ``"factor"``: a matrix factored per solver (the heat matrix);
@@ -166,4 +170,4 @@ def resolve_backend(backend, n, *, intent="reuse", stage="factor"):
         raise InvalidOptionError(f"stage must be one of {STAGES}, not {stage!r}")
     if backend != "auto":
         return backend
-    return choose_backend(n, "once" if intent == "one query" else stage)
+    return choose_backend(n, stage if intent == "reuse" else "factor")
