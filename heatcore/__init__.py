@@ -143,13 +143,16 @@ def geodesic_distance(
     >>> bool(geodesic_distance(V, [[0, 1, 2]], region=[0], refine=0)[0] == 0.0)
     True
     """
-    from .domains.sources import source_keywords
+    from .domains.sources import source_keywords, source_vertices
+    from .domains.validate import mesh_arrays
 
     chosen = Settings.of("api", intent="one query", m=m, boundary=boundary, accuracy=accuracy, backend=backend,
                          robust=robust, refine=refine, weld=weld)
     kinds = {"points": points, "edges": edges, "region": region, "face_points": face_points, "faces": faces}
     kinds = source_keywords({k: v for k, v in kinds.items() if v is not None or k in ("points", "edges", "region")},
                             stacklevel=3)
-    mesh = TriangleMesh(V, F, chosen.mesh)
+    V, F = mesh_arrays(V, F)
+    # One query: only the parts the sources are on are built (each part is solved as if alone).
+    mesh = TriangleMesh(V, F, chosen.mesh, only_parts_of=source_vertices(len(V), F, sources, **kinds))
     solver = HeatSolver(mesh, chosen.solver)
     return solver.distance(sources, **kinds)

@@ -7,6 +7,7 @@ from conftest import load_shared_mesh, shared_mesh_path
 
 import heatcore as hc
 from heatcore.apps import meshlab
+from heatcore.domains.sources import source_vertices
 from heatcore.viz.colormap import colorize, to_uint8
 
 SOURCES = [0, 100]
@@ -25,7 +26,9 @@ def select(ms, vertices):
 
 def reference(ms, vertices=None, faces=None, refine="auto", weld=0.0, intent="one query", **kw):
     mesh = ms.current_mesh()
-    solver = hc.HeatSolver(hc.TriangleMesh(mesh.vertex_matrix(), mesh.face_matrix(), refine=refine, weld=weld),
+    V, F = mesh.vertex_matrix(), mesh.face_matrix()
+    on = source_vertices(len(V), F, vertices, region=faces)  # one query: the parts the selection is on
+    solver = hc.HeatSolver(hc.TriangleMesh(V, F, refine=refine, weld=weld, only_parts_of=on),
                            intent=intent, **kw)  # the filter answers one query
     return solver.distance(vertices, region=faces)
 

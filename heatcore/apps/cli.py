@@ -85,11 +85,13 @@ DEMO_VIEW = {"elevation": 15.0, "azimuth": 150.0, "up": "y"}
 # --------------------------------------------------------------------------- options
 
 
-def build_solver(source, settings):
+def build_solver(source, settings, only_parts_of=None):
     """Domain + HeatSolver from a :class:`~heatcore.io.domain.DomainFile` and the run's settings.
 
     The mesh part of ``settings`` builds the domain, its solver part (with
     its intent: ``"one query"`` for ``distance`` and ``demo``) the solver.
+    ``only_parts_of`` (a one-off query's source vertices) leaves out the
+    connected parts of a triangle mesh that no source is on.
 
     Examples
     --------
@@ -103,7 +105,7 @@ def build_solver(source, settings):
 
     domain_progress, solver_progress = build_progress(len(source.vertices))
     with timed_stage("precompute"):
-        domain = source.domain(settings.mesh, progress=domain_progress)
+        domain = source.domain(settings.mesh, progress=domain_progress, only_parts_of=only_parts_of)
         solver = HeatSolver(domain, settings.solver, progress=solver_progress)
     welded = getattr(solver.domain, "n_welded", 0)
     if welded:
@@ -202,7 +204,7 @@ def run_distance(args):
     check_sources(sources, len(mesh.vertices))
     log.info("sources: %d from %s", sources.size, origin)
     try:
-        solver = build_solver(mesh, settings)
+        solver = build_solver(mesh, settings, only_parts_of=sources)  # one query: the sources' parts alone
     except InvalidMeshError as exc:  # the arrays read are checked here: say which file they came from
         raise InvalidMeshError(f"{args.mesh}: {exc}") from exc
     with timed_stage("query"):

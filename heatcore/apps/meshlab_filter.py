@@ -28,6 +28,7 @@ import time
 import numpy as np
 
 from .. import options
+from ..domains.sources import source_vertices
 from ..domains.triangle import TriangleMesh
 from ..errors import InvalidMeshError, InvalidOptionError, InvalidSourceError
 from ..heat import HeatSolver
@@ -222,8 +223,9 @@ def distance_from_selection(ms, settings, *, colormap="viridis", attribute=DEFAU
         raise InvalidMeshError("the current mesh has no faces: the heat method needs a triangle or polygon mesh")
     kind, sources = _selected_sources(mesh)
 
-    if solver is None:
-        solver = HeatSolver(TriangleMesh(V, F, settings.mesh), settings.solver)
+    if solver is None:  # one query: only the parts the selection is on are built
+        on = source_vertices(len(V), F, **{"vertices" if kind == "vertices" else "region": sources})
+        solver = HeatSolver(TriangleMesh(V, F, settings.mesh, only_parts_of=on), settings.solver)
     else:
         _check_solver(solver, V, F)
     setup = time.perf_counter()

@@ -217,6 +217,54 @@ def build_source_pins(domain, vertices=None, **kinds):
     return builder.build(domain.source_kinds)
 
 
+def source_vertices(n_vertices, elements, vertices=None, *, points=None, edges=None, region=None):
+    """The input vertices that sources name or touch: the vertices, the edges' ends, the elements' corners.
+
+    A domain built for one query keeps only the connected parts that hold
+    them (``only_parts_of`` of :class:`~heatcore.domains.TriangleMesh`): each
+    part is solved as if alone, so the others would only cost time.
+
+    Parameters
+    ----------
+    n_vertices : int
+    elements : (m, k) int array
+        The elements (faces) that ``points`` and ``region`` index.
+    vertices, points, edges, region
+        As :meth:`~heatcore.domains.base.Domain.source_pins` takes them
+        (barycentric coordinates are not read).
+
+    Returns
+    -------
+    (j,) int64 array, input vertex indices (unique)
+
+    Raises
+    ------
+    InvalidSourceError
+        Indices that :func:`index_list` or :func:`edge_list` rejects, or a
+        ``points`` that is not a pair.
+
+    Examples
+    --------
+    >>> F = np.array([[0, 1, 2], [2, 3, 4]])
+    >>> source_vertices(6, F, [5], edges=[[0, 1]], region=[1]).tolist()
+    [0, 1, 2, 3, 4, 5]
+    """
+    found = [np.zeros(0, dtype=np.int64)]
+    if vertices is not None:
+        found.append(index_list(vertices, n_vertices, "vertex"))
+    if edges is not None:
+        found.append(edge_list(edges, n_vertices).ravel())
+    if region is not None:
+        found.append(elements[index_list(region, len(elements), "face")].ravel())
+    if points is not None:
+        try:
+            element_indices, _ = points
+        except (TypeError, ValueError):
+            raise InvalidSourceError("points must be a pair (face indices, barycentric coordinates)") from None
+        found.append(elements[index_list(element_indices, len(elements), "face")].ravel())
+    return np.unique(np.concatenate(found))
+
+
 def edge_list(edges, n_vertices):
     """Validate edges given as vertex pairs; returns a ``(k, 2)`` int64 array.
 

@@ -87,6 +87,13 @@ class TriangleMesh(MeshDomain):
         build (welding, connected parts, refinement, intrinsic Delaunay flips,
         operators) and with 1.0 at the end; it may raise to abort the build
         (see :mod:`heatcore.progress`). Default: silent.
+    only_parts_of : sequence of int, optional
+        Input vertices: only the connected parts that hold one of them are
+        built (refined, triangulated, factored later); the other parts'
+        vertices are left out (``inf`` from any source, and refused as
+        sources). A one-off query passes its sources' vertices
+        (:func:`~heatcore.domains.sources.source_vertices`): every part is
+        solved as if alone, so its distances are the same.
 
     Each connected part is solved as if it were alone: its own refinement
     level, time step, mollification and length unit (:mod:`heatcore.domains.parts`),
@@ -99,7 +106,9 @@ class TriangleMesh(MeshDomain):
     n_welded : int
         Input vertices merged into another one by welding.
     n_parts : int
-        Connected parts (after welding).
+        Connected parts (after welding) built.
+    parts_left_out : int
+        Connected parts not built (``only_parts_of``).
     part_levels : (n_parts,) int array
         Midpoint subdivision levels of each part; ``levels`` is the largest.
     unit_exponent : (n_parts,) int array
@@ -143,7 +152,7 @@ class TriangleMesh(MeshDomain):
     #: The options of :class:`~heatcore.settings.MeshSettings` this domain takes.
     mesh_options = ("robust", "refine", "weld")
 
-    def __init__(self, V, F, settings=None, *, progress=None, **options):
+    def __init__(self, V, F, settings=None, *, progress=None, only_parts_of=None, **options):
         self.vertices, self.faces = mesh_arrays(V, F)
         settings = MeshSettings.of(settings, **options)
         settings.refuse_untaken(self.mesh_options, self.domain_name)
@@ -154,6 +163,10 @@ class TriangleMesh(MeshDomain):
         representative, self.n_welded = weld_map(self.vertices, tolerance) if tolerance is not None else (None, 0)
         faces = representative[self.faces] if self.n_welded else self.faces  # no copy where nothing was welded
         kept = self._faces_with_area(faces)
+        self.parts_left_out = 0
+        if only_parts_of is not None:
+            holding = index_list(only_parts_of, n, "vertex")
+            kept &= self._faces_in_parts_of(representative[holding] if self.n_welded else holding, faces, kept)
         progress(0.1, "finding connected parts")
         used = np.flatnonzero(np.bincount(faces[kept].ravel(), minlength=n))  # np.unique's result, no sort
         compact = np.full(n, -1, dtype=np.int64)
@@ -217,6 +230,20 @@ class TriangleMesh(MeshDomain):
             stacklevel=3,
         )
         return kept & ~flat
+
+    def _faces_in_parts_of(self, vertices, faces, kept):
+        """Faces of the connected parts that hold one of ``vertices`` (all kept faces where none does)."""
+        count, part = vertex_components(faces[kept], self.vertices.shape[0])
+        holding = np.zeros(count, dtype=bool)
+        holding[part[vertices]] = True
+        face_part = part[faces[kept][:, 0]]
+        inside = holding[face_part]
+        if not inside.any():  # no source on a face: the source checks say so
+            return kept
+        self.parts_left_out = int(np.unique(face_part[~inside]).size)
+        result = np.zeros_like(kept)
+        result[kept] = inside
+        return result
 
     def _build_operators(self, part, progress=None):
         sub = self.subdivision

@@ -66,7 +66,7 @@ class DomainFile:
         """Vertices selected in the file (MeshLab PLY flags)."""
         return self.selection
 
-    def domain(self, settings=None, *, progress=None, **options):
+    def domain(self, settings=None, *, progress=None, only_parts_of=None, **options):
         """Build the domain, with the mesh options its user set.
 
         Parameters
@@ -78,6 +78,11 @@ class DomainFile:
         progress : callable, optional
             A :mod:`heatcore.progress` callback; a triangle mesh reports its
             build stages to it (the other kinds build in one step).
+        only_parts_of : sequence of int, optional
+            Input vertices (a one-off query's sources): a triangle mesh
+            builds only the connected parts that hold them (see
+            :class:`~heatcore.domains.TriangleMesh`); the other kinds build
+            every part.
         **options
             Mesh options (``robust``, ``refine``, ``weld``; see
             :mod:`heatcore.options`) set here, checked once
@@ -109,7 +114,7 @@ class DomainFile:
         settings = MeshSettings.of(settings, **options)
         cls = _domain_class(self.kind)
         if self.kind == "triangle":
-            return cls(self.vertices, self.cells, settings, progress=progress)
+            return cls(self.vertices, self.cells, settings, progress=progress, only_parts_of=only_parts_of)
         mesh = cls(self.vertices, self.cells, settings)
         if self.kind == "tet":
             self.surface = mesh.boundary_faces
