@@ -123,3 +123,27 @@ def test_the_command_line_writes_inf_on_the_parts_no_source_is_on(tmp_path):
 def write_obj(path, V, F):
     lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in V] + [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in F]
     path.write_text("\n".join(lines) + "\n")
+
+
+def test_a_polygon_mesh_builds_only_the_sources_parts():
+    quad = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+    V = np.vstack([quad, quad + [5, 0, 0]])
+    mesh = hc.PolygonMesh(V, [[0, 1, 2, 3], [4, 5, 6, 7]], refine=0, only_parts_of=[5])
+    assert mesh.parts_left_out == 1 and mesh.n_polygons == 1
+    d = hc.HeatSolver(mesh).distance([5])
+    alone = hc.HeatSolver(hc.PolygonMesh(quad, [[0, 1, 2, 3]], refine=0)).distance([1])
+    np.testing.assert_allclose(d[4:], alone, rtol=1e-12, atol=1e-12)
+    assert np.isinf(d[:4]).all()
+    with pytest.raises(hc.InvalidSourceError, match="vertex 0 lies on a part this mesh was built without"):
+        hc.HeatSolver(mesh).distance([0])
+
+
+def test_the_command_line_builds_only_the_sources_parts_of_a_polygon_file(tmp_path):
+    quad = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+    path = tmp_path / "quads.obj"
+    lines = [f"v {x} {y} {z}" for x, y, z in np.vstack([quad, quad + [5, 0, 0]])] + ["f 1 2 3 4", "f 5 6 7 8"]
+    path.write_text("\n".join(lines) + "\n")
+    out = tmp_path / "d.npy"
+    assert main(["distance", str(path), "-s", "6", "-o", str(out), "-q", "--refine", "0"]) == 0
+    d = np.load(out)
+    assert np.isinf(d[:4]).all() and d[6] == 0 and np.isfinite(d[4:]).all()

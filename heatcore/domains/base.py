@@ -276,6 +276,10 @@ class MeshDomain(Domain):
     [0, 1, 2]
     """
 
+    #: ``(mask, why)`` pairs: input vertices of parts the domain left out (a mask over the input vertices)
+    #: and why, as a source error says it ("lies on a part with no area").
+    left_out = ()
+
     @property
     def n_input_vertices(self):
         """Number of vertices of the mesh as given."""
@@ -296,12 +300,9 @@ class MeshDomain(Domain):
         mapped = self.vertex_map[v]
         if (mapped < 0).any():
             bad = int(v[mapped < 0][0])
-            flat = getattr(self, "flat_vertices", None)
-            if flat is not None and flat[bad]:
-                raise InvalidSourceError(
-                    f"vertex {bad} lies on a part with no area (the corners of all its {self.element_name}s are "
-                    "collinear or coincident), so heat cannot spread from it; it cannot be a source"
-                )
+            for left_out, why in self.left_out:
+                if left_out[bad]:
+                    raise InvalidSourceError(f"vertex {bad} {why}, so it cannot be a source")
             raise InvalidSourceError(f"vertex {bad} is not used by any {self.element_name}, so it cannot be a source")
         return mapped
 

@@ -83,6 +83,46 @@ def vertex_components(elements, n, graph=None):
     return int(count), part
 
 
+def elements_in_parts_of(n, owner, corners, vertices):
+    """Which elements lie in a connected part that holds one of ``vertices``.
+
+    Parts are those of the vertex graph of the elements (an element joins
+    all its corners). Used to build only the parts a one-off query's sources
+    are on.
+
+    Parameters
+    ----------
+    n : int
+        Number of vertices.
+    owner, corners : (c,) int arrays
+        The element and the vertex of each corner (triangles:
+        ``np.repeat(np.arange(m), 3)`` and ``F.ravel()``).
+    vertices : (j,) int array
+        Vertex indices (below ``n``).
+
+    Returns
+    -------
+    inside : (m,) bool array, ``m = owner.max() + 1``
+    left_out : int
+        The parts of the other elements.
+
+    Examples
+    --------
+    >>> F = np.array([[0, 1, 2], [3, 4, 5], [2, 6, 7]])
+    >>> inside, left_out = elements_in_parts_of(8, np.repeat(np.arange(3), 3), F.ravel(), np.array([7]))
+    >>> inside.tolist(), left_out
+    ([True, False, True], 1)
+    """
+    m = int(owner.max(initial=-1)) + 1
+    # a graph of vertices (0 .. n-1) and elements (n .. n+m-1): each corner joins its vertex to its element
+    graph = sp.coo_matrix((np.ones(corners.size), (corners, n + owner)), shape=(n + m, n + m))
+    _, part = connected_components(graph, directed=True, connection="weak")
+    holding = np.zeros(part.max(initial=0) + 1, dtype=bool)
+    holding[part[vertices]] = True
+    inside = holding[part[n:]]
+    return inside, int(np.unique(part[n:][~inside]).size)
+
+
 def unit_exponents(V, part, count, unit_range=UNIT_RANGE):
     """Per part, the power of two of its length unit (0: the input's unit).
 

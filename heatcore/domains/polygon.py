@@ -53,7 +53,7 @@ from .base import MeshDomain
 from .cotan import triangle_operators
 from .intrinsic import IntrinsicTriangulation, face_edge_lengths, mollify
 from .operators import Operators
-from .parts import part_extremes, part_means, vertex_components
+from .parts import elements_in_parts_of, part_extremes, part_means, vertex_components
 from .polygon_refine import (  # noqa: F401 (area_minimizer_weights: public here too)
     REFINED_TIME_FACTOR,
     area_minimizer_weights,
@@ -240,6 +240,10 @@ class PolygonMesh(MeshDomain):
         for virtual refinement to span: by default it is an
         :class:`~heatcore.InvalidMeshError` naming it; ``True`` uses its fan
         triangles instead, with a warning (beast.obj has 24 such quads).
+    only_parts_of : sequence of int, optional
+        Input vertices: only the connected parts that hold one of them are
+        built, as :class:`~heatcore.TriangleMesh` does (``parts_left_out``
+        counts the others).
 
     Attributes
     ----------
@@ -296,7 +300,8 @@ class PolygonMesh(MeshDomain):
     #: The options of :class:`~heatcore.settings.MeshSettings` this domain takes.
     mesh_options = ("refine",)
 
-    def __init__(self, V, polygons, settings=None, *, delaunay=False, split_crossing=False, **options):
+    def __init__(self, V, polygons, settings=None, *, delaunay=False, split_crossing=False, only_parts_of=None,
+                 **options):
         settings = MeshSettings.of(settings, **options)
         settings.refuse_untaken(self.mesh_options, self.domain_name)
         self.vertices = vertex_array(V)
@@ -306,6 +311,9 @@ class PolygonMesh(MeshDomain):
         self.offsets, self.indices, kept = clean_polygons(offsets, indices)
         if self.offsets.size < 2:
             raise InvalidMeshError("no polygon has three distinct corners: the mesh has no area")
+        self.parts_left_out = 0
+        if only_parts_of is not None:
+            kept[np.flatnonzero(kept)] = self._keep_parts_of(index_list(only_parts_of, n, "vertex"))
         self.polygon_map = np.full(kept.size, -1, dtype=np.int64)
         self.polygon_map[kept] = np.arange(int(kept.sum()))
         refine = settings.refine
@@ -329,6 +337,22 @@ class PolygonMesh(MeshDomain):
         self.refinement = unfold(split_polygons(X, offsets, corners, levels, area_minimizer_weights))
         r = self.refinement
         self.operators = self._build_operators(r.vertices, r.offsets, r.corners, used.size)
+
+    def _keep_parts_of(self, vertices):
+        """Keep the polygons of the connected parts that hold one of ``vertices`` (all where none does)."""
+        sizes = np.diff(self.offsets)
+        owner = np.repeat(np.arange(sizes.size), sizes)
+        inside, left_out = elements_in_parts_of(self.vertices.shape[0], owner, self.indices, vertices)
+        if inside.any():  # else no source is on a polygon: the source checks say so
+            self.parts_left_out = left_out
+            left = np.zeros(self.vertices.shape[0], dtype=bool)
+            left[self.indices[~inside[owner]]] = True
+            left[self.indices[inside[owner]]] = False
+            self.left_out = ((left, "lies on a part this mesh was built without (only_parts_of)"),)
+            self.indices = self.indices[inside[owner]]
+            self.offsets = np.r_[0, np.cumsum(sizes[inside])].astype(np.int64)
+            return inside
+        return np.ones_like(inside)
 
     @property
     def n_polygons(self):

@@ -29,7 +29,7 @@ from .base import MeshDomain
 from .cotan import intrinsic_operators
 from .flat_parts import flat_part_faces
 from .intrinsic import face_edge_lengths
-from .parts import in_part_units, unit_exponents, vertex_components
+from .parts import elements_in_parts_of, in_part_units, unit_exponents, vertex_components
 from .refine import (
     AUTO_REFINE_BUDGET,
     AUTO_REFINE_MIN_VERTICES,
@@ -213,7 +213,6 @@ class TriangleMesh(MeshDomain):
             )
         flat = np.zeros_like(kept)
         flat[kept] = flat_part_faces(self.vertices, faces[kept])
-        self.flat_vertices = np.zeros(self.vertices.shape[0], dtype=bool)
         if not flat.any():
             return kept
         if flat[kept].all():
@@ -221,10 +220,10 @@ class TriangleMesh(MeshDomain):
                 f"the mesh has no area{welded}: the corners of every face are collinear or coincident, "
                 "so there is no surface for heat to spread on"
             )
-        self.flat_vertices[faces[flat].ravel()] = True
-        self.flat_vertices[faces[kept & ~flat].ravel()] = False  # a vertex shared with a real part stays
+        on_flat = self._left_out(faces[flat], faces[kept & ~flat], "lies on a part with no area (the corners of all "
+                                 "its faces are collinear or coincident), where heat cannot spread")
         warnings.warn(
-            f"ignored {int(flat.sum()):,} faces on {int(self.flat_vertices.sum()):,} vertices: they form parts "
+            f"ignored {int(flat.sum()):,} faces on {int(on_flat.sum()):,} vertices: they form parts "
             "with no area (collinear or coincident corners); those vertices are unreachable (inf)",
             HeatcoreWarning,
             stacklevel=3,
@@ -233,17 +232,23 @@ class TriangleMesh(MeshDomain):
 
     def _faces_in_parts_of(self, vertices, faces, kept):
         """Faces of the connected parts that hold one of ``vertices`` (all kept faces where none does)."""
-        count, part = vertex_components(faces[kept], self.vertices.shape[0])
-        holding = np.zeros(count, dtype=bool)
-        holding[part[vertices]] = True
-        face_part = part[faces[kept][:, 0]]
-        inside = holding[face_part]
+        F = faces[kept]
+        inside, left_out = elements_in_parts_of(len(self.vertices), np.repeat(np.arange(len(F)), 3), F.ravel(), vertices)
         if not inside.any():  # no source on a face: the source checks say so
             return kept
-        self.parts_left_out = int(np.unique(face_part[~inside]).size)
+        self.parts_left_out = left_out
+        self._left_out(F[~inside], F[inside], "lies on a part this mesh was built without (only_parts_of)")
         result = np.zeros_like(kept)
         result[kept] = inside
         return result
+
+    def _left_out(self, out, kept, why):
+        """Record the vertices of faces ``out`` that no face of ``kept`` uses as left out, and why."""
+        mask = np.zeros(self.vertices.shape[0], dtype=bool)
+        mask[out.ravel()] = True
+        mask[kept.ravel()] = False  # a vertex shared with a kept part stays
+        self.left_out = (*self.left_out, (mask, why))
+        return mask
 
     def _build_operators(self, part, progress=None):
         sub = self.subdivision

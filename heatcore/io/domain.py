@@ -79,10 +79,10 @@ class DomainFile:
             A :mod:`heatcore.progress` callback; a triangle mesh reports its
             build stages to it (the other kinds build in one step).
         only_parts_of : sequence of int, optional
-            Input vertices (a one-off query's sources): a triangle mesh
-            builds only the connected parts that hold them (see
-            :class:`~heatcore.domains.TriangleMesh`); the other kinds build
-            every part.
+            Input vertices (a one-off query's sources): a triangle or polygon
+            mesh builds only the connected parts that hold them (see
+            :class:`~heatcore.domains.TriangleMesh`); tet meshes and point
+            clouds build every part.
         **options
             Mesh options (``robust``, ``refine``, ``weld``; see
             :mod:`heatcore.options`) set here, checked once
@@ -115,6 +115,8 @@ class DomainFile:
         cls = _domain_class(self.kind)
         if self.kind == "triangle":
             return cls(self.vertices, self.cells, settings, progress=progress, only_parts_of=only_parts_of)
+        if self.kind == "polygon":
+            return cls(self.vertices, self.cells, settings, only_parts_of=only_parts_of)
         mesh = cls(self.vertices, self.cells, settings)
         if self.kind == "tet":
             self.surface = mesh.boundary_faces
