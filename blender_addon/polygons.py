@@ -105,7 +105,7 @@ def key_options(settings, as_polygons, points_only=False):
     return {**mesh, **settings.solver.keywords(), **({"polygons": True} if as_polygons else {})}
 
 
-def polygon_domain(V, polygons, mesh, notes=None):
+def polygon_domain(V, polygons, mesh, notes=None, only_parts_of=None):
     """``heatcore.PolygonMesh`` of the faces, or None where merging (``weld=0``) has vertices to merge (exact duplicates).
 
     Polygons whose sides cross (a bowtie) are measured as their fan
@@ -120,6 +120,8 @@ def polygon_domain(V, polygons, mesh, notes=None):
         The run's mesh options: ``weld`` decides, ``refine`` goes to the PolygonMesh
         (which takes no other).
     notes : list of str, optional
+    only_parts_of : (k,) int array, optional
+        The sources: only the connected parts they are on are built (``heatcore.PolygonMesh``).
 
     Examples
     --------
@@ -138,13 +140,13 @@ def polygon_domain(V, polygons, mesh, notes=None):
                          "another and are welded (Merge Coincident Vertices; polygons are not merged)")
             return None
     try:
-        return heatcore.PolygonMesh(V, polygons, refine=mesh.refine)
+        return heatcore.PolygonMesh(V, polygons, refine=mesh.refine, only_parts_of=only_parts_of)
     except heatcore.InvalidMeshError as exc:  # checked before any refinement: a cheap first try
         if "cross themselves" not in str(exc):
             raise
         notes.append(str(exc).split("; polygon ")[0].replace("polygon(s)", "face(s)")
                      + ": measured as their fan triangles (fix them in Edit Mode to measure them as polygons)")
-    return heatcore.PolygonMesh(V, polygons, refine=mesh.refine, split_crossing=True)
+    return heatcore.PolygonMesh(V, polygons, refine=mesh.refine, split_crossing=True, only_parts_of=only_parts_of)
 
 
 def polygon_arrays(mesh):

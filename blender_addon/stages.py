@@ -339,6 +339,8 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
         else mesh.session_uid, as_polygons=as_polygons,  # a mesh's polygon and triangle solvers: side by side
     )
     entry = SOLVERS.entry(run.cache_id, key)  # built on this shape, maybe elsewhere or at another uniform scale
+    if entry is not None and not covers(entry[1].domain, src, sources_later or new_object):
+        entry = None  # built for the parts other sources were on
     run.cached = entry is not None
     if run.cached:  # run.key: the solver's own, in the frame it was built in
         run.key, run.solver = entry
@@ -349,6 +351,18 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
         run.polygons = (topology[1:] if new_object else polygon_arrays(mesh)) if as_polygons else None
         run.key = run_key(V, topology, frame, settings, as_polygons, points_only, copy=True)  # kept with the solver
     return run
+
+
+def covers(domain, sources, every_part):
+    """Whether a cached solver's ``domain`` holds the ``sources`` (input vertex indices), or every part.
+
+    A click builds only the connected parts its sources are on (the others
+    wait for a click of their own): runs whose sources come later (the probe,
+    paths) or are not indices (``new_object``) need every part.
+    """
+    if every_part:
+        return getattr(domain, "parts_left_out", 0) == 0
+    return bool((domain.output_vertices[sources] >= 0).all())
 
 
 def build_solver(run, progress=None):
@@ -363,9 +377,11 @@ def build_solver(run, progress=None):
     report(0.0, f"building the heat solver for {len(run.V):,} vertices")
     t0 = time.perf_counter()
     mesh = run.settings.mesh
-    domain = None if run.polygons is None else polygon_domain(run.V, run.polygons, mesh, run.notes)
+    # the parts the sources are on, alone (each part is solved as if alone); the others wait for their click
+    only = run.sources if run.sources.size and not run.new_object else None
+    domain = None if run.polygons is None else polygon_domain(run.V, run.polygons, mesh, run.notes, only)
     if domain is None and run.F.shape[0]:
-        domain = heatcore.TriangleMesh(run.V, run.F, mesh, progress=report.part(0.0, DOMAIN_SHARE))
+        domain = heatcore.TriangleMesh(run.V, run.F, mesh, progress=report.part(0.0, DOMAIN_SHARE), only_parts_of=only)
     elif domain is None:  # vertices only: a point cloud (of the mesh options, it takes refine)
         domain = heatcore.PointCloud(run.V, refine=mesh.refine)
     solver = heatcore.HeatSolver(domain, run.settings.solver, progress=report.part(DOMAIN_SHARE, 1.0))
