@@ -10,12 +10,12 @@ taking 0.32 s.
 
 import numpy as np
 import pytest
+from shapes import icosphere
 
 import heatcore as hc
 from heatcore.apps.cli import main
 from heatcore.domains.sources import source_vertices
 from heatcore.io.mesh import read_mesh
-from shapes import icosphere
 
 
 def parts(count=3, subdivisions=2):

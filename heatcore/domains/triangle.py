@@ -29,7 +29,7 @@ from .base import MeshDomain
 from .cotan import intrinsic_operators
 from .flat_parts import flat_part_faces
 from .intrinsic import face_edge_lengths
-from .parts import elements_in_parts_of, in_part_units, unit_exponents, vertex_components
+from .parts import in_part_units, unit_exponents, vertex_components
 from .refine import (
     AUTO_REFINE_BUDGET,
     AUTO_REFINE_MIN_VERTICES,
@@ -158,27 +158,15 @@ class TriangleMesh(MeshDomain):
         settings.refuse_untaken(self.mesh_options, self.domain_name)
         refine, tolerance, self.robust = settings.refine, settings.weld, settings.robust
         progress = Progress(progress)
-        n = self.vertices.shape[0]
         progress(0.0, "welding coincident vertices" if tolerance is not None else "reading the triangles")
         representative, self.n_welded = weld_map(self.vertices, tolerance) if tolerance is not None else (None, 0)
         faces = representative[self.faces] if self.n_welded else self.faces  # no copy where nothing was welded
         kept = self._faces_with_area(faces)
-        self.parts_left_out = 0
-        if only_parts_of is not None:
-            holding = index_list(only_parts_of, n, "vertex")
-            kept &= self._faces_in_parts_of(representative[holding] if self.n_welded else holding, faces, kept)
         progress(0.1, "finding connected parts")
-        used = np.flatnonzero(np.bincount(faces[kept].ravel(), minlength=n))  # np.unique's result, no sort
-        compact = np.full(n, -1, dtype=np.int64)
-        compact[used] = np.arange(used.size)
-        self.vertex_map = compact if representative is None else compact[representative]
-        self.face_map = np.full(self.faces.shape[0], -1, dtype=np.int64)
-        self.face_map[kept] = np.arange(int(kept.sum()))
-        if used.size == n and kept.all():  # a clean mesh: no renumbered copy needed
-            V_used, F_used = self.vertices, faces
-        else:
-            V_used, F_used = self.vertices[used], compact[faces[kept]]
-        self.n_parts, part = vertex_components(F_used, used.size)
+        V_used, F_used, part = self._surface(faces, kept, representative)
+        self.parts_left_out = 0
+        if only_parts_of is not None and self.n_parts > 1 and self._keep_parts_of(only_parts_of, faces, kept, part):
+            V_used, F_used, part = self._surface(faces, kept, representative)
         if refine == "auto":
             sizes = np.bincount(part, minlength=self.n_parts)
             work = np.maximum(sizes, np.bincount(part[F_used[:, 0]], minlength=self.n_parts) // 2)  # soups: faces
@@ -230,17 +218,43 @@ class TriangleMesh(MeshDomain):
         )
         return kept & ~flat
 
-    def _faces_in_parts_of(self, vertices, faces, kept):
-        """Faces of the connected parts that hold one of ``vertices`` (all kept faces where none does)."""
-        F = faces[kept]
-        inside, left_out = elements_in_parts_of(len(self.vertices), np.repeat(np.arange(len(F)), 3), F.ravel(), vertices)
-        if not inside.any():  # no source on a face: the source checks say so
-            return kept
-        self.parts_left_out = left_out
-        self._left_out(F[~inside], F[inside], "lies on a part this mesh was built without (only_parts_of)")
-        result = np.zeros_like(kept)
-        result[kept] = inside
-        return result
+    def _surface(self, faces, kept, representative):
+        """Number the vertices the ``kept`` faces use; sets ``vertex_map``, ``face_map`` and ``n_parts``.
+
+        Returns the used vertices, the kept faces on them and each used vertex's connected part.
+        """
+        n = self.vertices.shape[0]
+        used = np.flatnonzero(np.bincount(faces[kept].ravel(), minlength=n))  # np.unique's result, no sort
+        compact = np.full(n, -1, dtype=np.int64)
+        compact[used] = np.arange(used.size)
+        self.vertex_map = compact if representative is None else compact[representative]
+        self.face_map = np.full(self.faces.shape[0], -1, dtype=np.int64)
+        self.face_map[kept] = np.arange(int(kept.sum()))
+        if used.size == n and kept.all():  # a clean mesh: no renumbered copy needed
+            V_used, F_used = self.vertices, faces
+        else:
+            V_used, F_used = self.vertices[used], compact[faces[kept]]
+        self.n_parts, part = vertex_components(F_used, used.size)
+        return V_used, F_used, part
+
+    def _keep_parts_of(self, vertices, faces, kept, part):
+        """Drop from ``kept`` the faces of the parts that hold none of the input ``vertices``; whether any went.
+
+        ``part``: the connected part of each vertex of :meth:`_surface`. Where
+        no vertex is on a face, nothing goes (the source checks say so).
+        """
+        holding = self.vertex_map[index_list(vertices, self.vertices.shape[0], "vertex")]
+        inside = np.zeros(self.n_parts, dtype=bool)
+        inside[part[holding[holding >= 0]]] = True
+        if not inside.any() or inside.all():
+            return False
+        kept_faces = faces[kept]
+        face_inside = inside[part[self.vertex_map[kept_faces[:, 0]]]]
+        self.parts_left_out = int((~inside).sum())
+        self._left_out(kept_faces[~face_inside], kept_faces[face_inside],
+                       "lies on a part this mesh was built without (only_parts_of)")
+        kept[kept] = face_inside
+        return True
 
     def _left_out(self, out, kept, why):
         """Record the vertices of faces ``out`` that no face of ``kept`` uses as left out, and why."""
