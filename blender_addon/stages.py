@@ -383,7 +383,7 @@ def build_solver(run, progress=None):
     if domain is None and run.F.shape[0]:
         domain = heatcore.TriangleMesh(run.V, run.F, mesh, progress=report.part(0.0, DOMAIN_SHARE), only_parts_of=only)
     elif domain is None:  # vertices only: a point cloud (of the mesh options, it takes refine)
-        domain = heatcore.PointCloud(run.V, refine=mesh.refine)
+        domain = heatcore.PointCloud(run.V, refine=mesh.refine, progress=report.part(0.0, DOMAIN_SHARE))
     solver = heatcore.HeatSolver(domain, run.settings.solver, progress=report.part(DOMAIN_SHARE, 1.0))
     run.solver_seconds = time.perf_counter() - t0
     run.solver = solver

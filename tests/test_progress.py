@@ -128,3 +128,30 @@ def test_parts_compose_and_clip():
     assert seen == pytest.approx([0.4, 0.5, 0.6, 0.4])
     assert Progress(None).silent and not whole.silent
     Progress(None)(0.5, "nobody listens")
+
+
+@pytest.mark.parametrize("kind", ["points", "tets"])
+def test_point_clouds_and_tet_meshes_report_their_stages(kind):
+    """Every domain reports its build stages (issue 34: a build stuck at one fraction for seconds)."""
+    rng = np.random.default_rng(0)
+    if kind == "points":
+        V, _ = grid(20)
+        mesh, seen = recorded(lambda p: hc.PointCloud(V + 0.01 * rng.random(V.shape), progress=p))
+        last = "point cloud ready"
+    else:
+        corners = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1]], float)
+        mesh, seen = recorded(lambda p: hc.TetMesh(corners, [[0, 1, 2, 3], [1, 2, 3, 4]], progress=p))
+        last = "tet mesh ready"
+    fractions = [f for f, _ in seen]
+    assert len(seen) >= 4 and fractions[0] == 0.0 and seen[-1] == (1.0, last)
+    assert all(b > a for a, b in zip(fractions, fractions[1:])), seen
+    with pytest.raises(Abort):  # a raising callback aborts the build
+        type(mesh)(*((V,) if kind == "points" else (corners, [[0, 1, 2, 3]])), progress=_abort_at(0.3))
+
+
+def _abort_at(fraction):
+    def callback(f, message):
+        if f >= fraction:
+            raise Abort(message)
+
+    return callback

@@ -40,6 +40,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import HeatcoreWarning, InvalidMeshError, InvalidSourceError
+from ..progress import Progress
 from ..settings import MeshSettings
 from .base import MeshDomain
 from .sources import barycentric_array, index_list
@@ -80,6 +81,10 @@ class TetMesh(MeshDomain):
         1.4% -> 1.0% mean relative error, see docs/tet.md) at the cost of one
         extra triangular solve per pinned vertex and query. ``False`` pins the
         source vertex alone (cheapest queries).
+    progress : callable, optional
+        ``progress(fraction, message)`` at the start of each stage (tets,
+        boundary surface, operators), as :class:`~heatcore.TriangleMesh`
+        reports (:mod:`heatcore.progress`).
 
     Attributes
     ----------
@@ -127,8 +132,10 @@ class TetMesh(MeshDomain):
     #: The options of :class:`~heatcore.settings.MeshSettings` this domain takes: none.
     mesh_options = ()
 
-    def __init__(self, V, T, settings=None, *, pin_neighbors=True, **options):
+    def __init__(self, V, T, settings=None, *, pin_neighbors=True, progress=None, **options):
         MeshSettings.of(settings, **options).refuse_untaken(self.mesh_options, self.domain_name)
+        progress = Progress(progress)
+        progress(0.0, "reading the tets")
         self.pin_neighbors = bool(pin_neighbors)
         self.vertices = vertex_array(V)
         if np.asarray(V).shape[1] != 3:
@@ -152,6 +159,7 @@ class TetMesh(MeshDomain):
             log.info("reoriented %d of %d tets with negative orientation", self.n_reoriented, kept.sum())
 
         # The boundary surface of the mesh as given (flat tets included).
+        progress(0.2, "finding the boundary surface")
         self.boundary_faces, overshared = boundary_faces(oriented[kept])
         if overshared:
             warnings.warn(
@@ -191,7 +199,9 @@ class TetMesh(MeshDomain):
         self._incidence = None
         faces = self.vertex_map[self.boundary_faces]
         faces = faces[(faces >= 0).all(axis=1)]  # faces of flat tets' own vertices are no surface
+        progress(0.4, "cotan Laplacian and gradients of the tets")
         self.operators = tet_operators(self._positions, self.vertex_map[oriented[kept]], boundary, faces)
+        progress(1.0, "tet mesh ready")
 
     def _element_sides(self, mark):
         tets = self.tets[mark[self.tets].any(axis=1) & (self.tet_map >= 0)]

@@ -3,6 +3,7 @@
 import numpy as np
 
 from ...errors import InvalidMeshError, InvalidOptionError, InvalidSourceError
+from ...progress import Progress
 from ...settings import MeshSettings
 from ..base import Domain
 from ..cotan import intrinsic_operators
@@ -48,6 +49,10 @@ class PointCloud(Domain):
         Midpoint subdivision levels of the proposed triangles, as for
         :class:`~heatcore.TriangleMesh` ("auto" refines clouds of fewer than
         ``AUTO_REFINE_MIN_VERTICES`` points).
+    progress : callable, optional
+        ``progress(fraction, message)`` at the start of each stage (duplicate
+        points, neighbours, normals, local triangles, operators), as
+        :class:`~heatcore.TriangleMesh` reports (:mod:`heatcore.progress`).
 
     Attributes
     ----------
@@ -95,9 +100,11 @@ class PointCloud(Domain):
     #: The options of :class:`~heatcore.settings.MeshSettings` this domain takes.
     mesh_options = ("refine",)
 
-    def __init__(self, P, normals=None, settings=None, *, k=None, **options):
+    def __init__(self, P, normals=None, settings=None, *, k=None, progress=None, **options):
         settings = MeshSettings.of(settings, **options)
         settings.refuse_untaken(self.mesh_options, self.domain_name)
+        progress = Progress(progress)
+        progress(0.0, "merging duplicate points")
         self.points = vertex_array(P, name="P")
         n_in = self.points.shape[0]
         self.point_map, self.distinct = merge_duplicates(self.points)
@@ -108,12 +115,15 @@ class PointCloud(Domain):
         self.k = _neighborhood_size(k, n)
         refine = settings.refine
 
+        progress(0.1, "finding each point's neighbours")
         near, dist = nearest_neighbors(self.distinct, self.k, ratio=MAX_ATTACH_RATIO)
         nbr = within_ratio(near, dist, MAX_NEIGHBOR_RATIO)  # the neighbors of the normals and local triangles
+        progress(0.3, "estimating normals" if normals is None else "reading the normals")
         if normals is None:
             self.normals = pca_normals(self.distinct, nbr)
         else:
             self.normals = _normal_array(normals, n_in, self.point_map, n)
+        progress(0.4, "local Delaunay triangles")
         tri, votes, self.boundary_points = local_delaunay_triangles(self.distinct, self.normals, nbr)
         if tri.shape[0]:
             tri = attach_left_out(self.distinct, tri, near)  # points heavy noise left out of every triangle
@@ -128,7 +138,9 @@ class PointCloud(Domain):
         self._operator_vertex = np.full(n, -1, dtype=np.int64)
         self._operator_vertex[used] = np.arange(used.size)
         self.levels = auto_refine_levels(used.size) if refine == "auto" else int(refine)
+        progress(0.7, f"midpoint subdivision ({self.levels} levels) and operators" if self.levels else "operators")
         self.operators = self._build_operators(self.distinct[used], self._operator_vertex[tri])
+        progress(1.0, "point cloud ready")
 
     def _build_operators(self, V, F):
         sub = midpoint_subdivide(V, F, self.levels)
