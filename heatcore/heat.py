@@ -30,7 +30,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .domains.parts import first_of_each, hop_diameters, vertex_components, vertex_graph
+from .domains.parts import edge_graph, first_of_each, hop_diameters, vertex_components
 from .domains.sources import SourcePins, source_keywords
 from .errors import UnsupportedDomainError
 from .high_accuracy import high_accuracy_distance, high_accuracy_needs_heat
@@ -151,7 +151,9 @@ class HeatSolver:
     def _heat_step(self, ops):
         """Connected components, each one's time factor (``m`` raised by the underflow guard) and time step."""
         n = ops.n_vertices
-        graph = vertex_graph(ops.elements, n)
+        # every side of each element, not a star from its first corner: the hop count is the surface's, whatever
+        # corner each element lists first (a PolygonMesh and a TriangleMesh of the same triangles get the same t)
+        graph = edge_graph(ops.elements, n)
         self.n_components, self.component = vertex_components(ops.elements, n, graph)
         hops = hop_diameters(graph, self.component, self.n_components)
         del graph

@@ -254,7 +254,7 @@ class Option:
 #: and from m = 1e9 that tail sinks into rounding: an icosahedron's largest distance falls to 0.61 of the
 #: truth at 1e9, spot's to 0.12 at 1e12 and to zeros or a failed factorization above. m is unitless, so the
 #: limit is the same at any coordinate scale. The underflow guard's own raise of m
-#: (:func:`heatcore.steps.time_step.underflow_safe_m`, about (hops / 443)^2) is not held to it.
+#: (:func:`heatcore.steps.time_step.underflow_safe_m`, about (hops / 400)^2) is not held to it.
 M_MAX = 1e6
 
 _OPTIONS = (

@@ -227,3 +227,26 @@ def test_breadth_first_hops_equal_dijkstra(seed):
     expected = dijkstra(graph, directed=True, indices=root, unweighted=True, min_only=True)
     np.testing.assert_array_equal(_hops_from(graph, root), expected)
     assert np.isinf(expected).any() and expected[np.isfinite(expected)].max() > 3
+
+
+def test_hop_diameter_is_the_surfaces_not_the_corner_order():
+    """The underflow guard's hop count does not change when each face lists another corner first.
+
+    It counted hops on a star from each face's first corner: two meshes of the same triangles (a
+    PolygonMesh of triangulated letters and its TriangleMesh twin) got 683 and 784 hops, and so
+    different time steps. Counted along every side, they get the same.
+    """
+    from heatcore.domains.parts import edge_graph, hop_diameters, vertex_components
+
+    n = 40
+    x, y = np.meshgrid(np.arange(n), np.arange(3))
+    idx = (y * n + x)[:-1, :-1].ravel()
+    F = np.r_[np.c_[idx, idx + 1, idx + n + 1], np.c_[idx, idx + n + 1, idx + n]]
+    rng = np.random.default_rng(0)
+    rotated = np.array([np.roll(f, k) for f, k in zip(F, rng.integers(0, 3, len(F)))])
+    hops = []
+    for faces in (F, rotated):
+        graph = edge_graph(faces, 3 * n)
+        count, part = vertex_components(faces, 3 * n, graph)
+        hops.append(hop_diameters(graph, part, count).tolist())
+    assert hops[0] == hops[1] == [n + 1]  # corner to the opposite corner against the diagonals

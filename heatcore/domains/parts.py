@@ -56,6 +56,34 @@ def vertex_graph(elements, n):
     return (graph + graph.T).tocsr()
 
 
+def edge_graph(elements, n):
+    """Symmetric sparse adjacency joining every two corners of each element (a triangle's three sides).
+
+    Unlike :func:`vertex_graph` (a star from each element's first corner), it
+    does not depend on which corner an element lists first, so two meshes of
+    the same triangles, their corners in another order, get the same graph.
+
+    Parameters
+    ----------
+    elements : (m, k) int array
+    n : int
+
+    Returns
+    -------
+    (n, n) scipy.sparse.csr_matrix
+
+    Examples
+    --------
+    >>> edge_graph(np.array([[0, 1, 2]]), 4).nnz
+    6
+    """
+    k = elements.shape[1]
+    a, b = np.triu_indices(k, 1)
+    graph = sp.coo_matrix((np.ones(a.size * elements.shape[0]), (elements[:, a].ravel(), elements[:, b].ravel())),
+                          shape=(n, n)).tocsr()
+    return (graph + graph.T).tocsr()
+
+
 def vertex_components(elements, n, graph=None):
     """Connected components of the vertex graph of ``elements``.
 
