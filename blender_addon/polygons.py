@@ -105,7 +105,7 @@ def key_options(settings, as_polygons, points_only=False):
     return {**mesh, **settings.solver.keywords(), **({"polygons": True} if as_polygons else {})}
 
 
-def polygon_domain(V, polygons, mesh, notes=None, only_parts_of=None):
+def polygon_domain(V, polygons, mesh, notes=None, only_parts_of=None, progress=None):
     """``heatcore.PolygonMesh`` of the faces, or None where merging (``weld=0``) has vertices to merge (exact duplicates).
 
     Polygons whose sides cross (a bowtie) are measured as their fan
@@ -122,6 +122,8 @@ def polygon_domain(V, polygons, mesh, notes=None, only_parts_of=None):
     notes : list of str, optional
     only_parts_of : (k,) int array, optional
         The sources: only the connected parts they are on are built (``heatcore.PolygonMesh``).
+    progress : callable, optional
+        The build's stages (``heatcore.progress``).
 
     Examples
     --------
@@ -140,13 +142,14 @@ def polygon_domain(V, polygons, mesh, notes=None, only_parts_of=None):
                          "another and are welded (Merge Coincident Vertices; polygons are not merged)")
             return None
     try:
-        return heatcore.PolygonMesh(V, polygons, refine=mesh.refine, only_parts_of=only_parts_of)
+        return heatcore.PolygonMesh(V, polygons, refine=mesh.refine, only_parts_of=only_parts_of, progress=progress)
     except heatcore.InvalidMeshError as exc:  # checked before any refinement: a cheap first try
         if "cross themselves" not in str(exc):
             raise
         notes.append(str(exc).split("; polygon ")[0].replace("polygon(s)", "face(s)")
                      + ": measured as their fan triangles (fix them in Edit Mode to measure them as polygons)")
-    return heatcore.PolygonMesh(V, polygons, refine=mesh.refine, split_crossing=True, only_parts_of=only_parts_of)
+    return heatcore.PolygonMesh(V, polygons, refine=mesh.refine, split_crossing=True, only_parts_of=only_parts_of,
+                                progress=progress)
 
 
 def polygon_arrays(mesh):

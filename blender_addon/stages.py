@@ -379,7 +379,8 @@ def build_solver(run, progress=None):
     mesh = run.settings.mesh
     # the parts the sources are on, alone (each part is solved as if alone); the others wait for their click
     only = run.sources if run.sources.size and not run.new_object else None
-    domain = None if run.polygons is None else polygon_domain(run.V, run.polygons, mesh, run.notes, only)
+    domain = None if run.polygons is None else polygon_domain(run.V, run.polygons, mesh, run.notes, only,
+                                                              report.part(0.0, DOMAIN_SHARE))
     if domain is None and run.F.shape[0]:
         domain = heatcore.TriangleMesh(run.V, run.F, mesh, progress=report.part(0.0, DOMAIN_SHARE), only_parts_of=only)
     elif domain is None:  # vertices only: a point cloud (of the mesh options, it takes refine)

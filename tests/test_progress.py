@@ -130,11 +130,16 @@ def test_parts_compose_and_clip():
     Progress(None)(0.5, "nobody listens")
 
 
-@pytest.mark.parametrize("kind", ["points", "tets"])
-def test_point_clouds_and_tet_meshes_report_their_stages(kind):
+@pytest.mark.parametrize("kind", ["points", "tets", "polygons"])
+def test_point_clouds_tet_and_polygon_meshes_report_their_stages(kind):
     """Every domain reports its build stages (issue 34: a build stuck at one fraction for seconds)."""
     rng = np.random.default_rng(0)
-    if kind == "points":
+    quads = [[0, 1, 2, 3], [1, 4, 5, 2]]
+    square = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0], [2, 1, 0.3]], float)
+    if kind == "polygons":
+        mesh, seen = recorded(lambda p: hc.PolygonMesh(square, quads, progress=p))
+        last = "polygon mesh ready"
+    elif kind == "points":
         V, _ = grid(20)
         mesh, seen = recorded(lambda p: hc.PointCloud(V + 0.01 * rng.random(V.shape), progress=p))
         last = "point cloud ready"
@@ -146,7 +151,8 @@ def test_point_clouds_and_tet_meshes_report_their_stages(kind):
     assert len(seen) >= 4 and fractions[0] == 0.0 and seen[-1] == (1.0, last)
     assert all(b > a for a, b in zip(fractions, fractions[1:])), seen
     with pytest.raises(Abort):  # a raising callback aborts the build
-        type(mesh)(*((V,) if kind == "points" else (corners, [[0, 1, 2, 3]])), progress=_abort_at(0.3))
+        arguments = {"points": lambda: (V,), "tets": lambda: (corners, [[0, 1, 2, 3]]), "polygons": lambda: (square, quads)}
+        type(mesh)(*arguments[kind](), progress=_abort_at(0.3))
 
 
 def _abort_at(fraction):

@@ -48,6 +48,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import HeatcoreWarning, InvalidMeshError, InvalidSourceError
+from ..progress import Progress
 from ..settings import MeshSettings
 from .base import MeshDomain
 from .cotan import MOLLIFY_SLACK, triangle_operators
@@ -250,6 +251,10 @@ class PolygonMesh(MeshDomain):
         Input vertices: only the connected parts that hold one of them are
         built, as :class:`~heatcore.TriangleMesh` does (``parts_left_out``
         counts the others).
+    progress : callable, optional
+        ``progress(fraction, message)`` at the start of each build stage
+        (polygons, their shapes, refinement, operators), as
+        :class:`~heatcore.TriangleMesh` reports (:mod:`heatcore.progress`).
 
     Attributes
     ----------
@@ -311,9 +316,11 @@ class PolygonMesh(MeshDomain):
     mesh_options = ("refine",)
 
     def __init__(self, V, polygons, settings=None, *, delaunay=False, split_crossing=False, only_parts_of=None,
-                 **options):
+                 progress=None, **options):
         settings = MeshSettings.of(settings, **options)
         settings.refuse_untaken(self.mesh_options, self.domain_name)
+        progress = Progress(progress)
+        progress(0.0, "reading the polygons")
         self.vertices = vertex_array(V)
         n = self.vertices.shape[0]
         offsets, indices = polygon_arrays(polygons, n)
@@ -327,6 +334,7 @@ class PolygonMesh(MeshDomain):
         self.polygon_map = np.full(kept.size, -1, dtype=np.int64)
         self.polygon_map[kept] = np.arange(int(kept.sum()))
         refine = settings.refine
+        progress(0.05, "checking the polygons' shapes (crossing sides, concave corners)")
         offsets, indices, origin = simple_polygons(
             self.vertices, self.offsets, self.indices, np.flatnonzero(kept), split_crossing
         )
@@ -341,12 +349,16 @@ class PolygonMesh(MeshDomain):
         self.n_virtual = int((np.diff(offsets) > 3).sum())
         self.part_levels, levels, part = refine_levels(used.size, offsets, corners, refine)
         self.levels = int(self.part_levels.max())
+        progress(0.45, f"polygon refinement ({self.levels} level{'s' * (self.levels != 1)})" if self.levels
+                 else "virtual vertices")
         # each part split around its own first vertex: new points far from the origin keep their digits
         X = self.vertices[used]
         X = X - X[np.unique(part, return_index=True)[1]][part]
         self.refinement = unfold(split_polygons(X, offsets, corners, levels, area_minimizer_weights))
         r = self.refinement
+        progress(0.6, "Laplacian, mass and gradient of the polygons")
         self.operators = self._build_operators(r.vertices, r.offsets, r.corners, used.size)
+        progress(1.0, "polygon mesh ready")
 
     def _keep_parts_of(self, vertices):
         """Keep the polygons of the connected parts that hold one of ``vertices`` (all where none does)."""

@@ -76,8 +76,8 @@ class DomainFile:
             (:mod:`heatcore.settings`); ``settings.given`` names those its
             user set.
         progress : callable, optional
-            A :mod:`heatcore.progress` callback; triangle meshes, tet meshes
-            and point clouds report their build stages to it.
+            A :mod:`heatcore.progress` callback; every kind of domain reports
+            its build stages to it.
         only_parts_of : sequence of int, optional
             Input vertices (a one-off query's sources): a triangle or polygon
             mesh builds only the connected parts that hold them (see
@@ -116,7 +116,7 @@ class DomainFile:
         if self.kind == "triangle":
             return cls(self.vertices, self.cells, settings, progress=progress, only_parts_of=only_parts_of)
         if self.kind == "polygon":
-            return cls(self.vertices, self.cells, settings, only_parts_of=only_parts_of)
+            return cls(self.vertices, self.cells, settings, progress=progress, only_parts_of=only_parts_of)
         mesh = cls(self.vertices, self.cells, settings, progress=progress)
         if self.kind == "tet":
             self.surface = mesh.boundary_faces
