@@ -436,3 +436,17 @@ def test_unreferenced_vertices_and_bad_sources():
         solver.distance([26])
     with pytest.raises(hc.errors.UnsupportedDomainError):
         hc.HeatSolver(PolygonMesh(V, Q), accuracy="high")
+
+
+def test_non_planar_n_gons_are_triangulated_quads_keep_their_virtual_vertex():
+    """A hexagon bent out of its plane (as Limited Dissolve leaves on a sphere) spans no definite surface."""
+    from heatcore.domains.polygon_triangulate import NONPLANAR_NGON, polygons_to_triangulate
+
+    angles = np.arange(6) * np.pi / 3
+    bent = np.c_[np.cos(angles), np.sin(angles), 0.1 * (-1.0) ** np.arange(6)]  # a zigzag crown
+    flat = bent * [1, 1, 0]
+    quad = np.array([[0, 0, 0], [1, 0, 0.1], [1, 1, 0], [0, 1, 0.1]], float)  # twisted well past the limit
+    X = np.r_[bent, flat, quad]
+    offsets, corners = np.array([0, 6, 12, 16]), np.arange(16)
+    assert 0.1 > NONPLANAR_NGON
+    assert polygons_to_triangulate(X, offsets, corners).tolist() == [True, False, False]
