@@ -82,11 +82,6 @@ BUILDERS = {
 #: Delaunay, and parts of triangles only built as TriangleMesh builds them (the text: 1.18-1.33x before).
 KNOWN = {
     ('grid7-count21-seed3', 1): 'measured 1.58 / 1.71 / 1.44% against 2.11 / 1.65 / 1.75% (x1.03)',
-    ('uvsphere-limited20', 0): 'measured 1.70 / 3.36 / 1.48% against 1.70 / 3.36 / 1.45% (x1.02)',
-    ('cube-bumps-limited5', 0): 'measured 3.92 / 7.89 / 6.93% against 4.17 / 7.37 / 6.82% (x1.07)',
-    ('cube-bumps-limited5', 1): 'measured 2.57 / 5.98 / 5.22% against 2.82 / 5.72 / 5.10% (x1.05)',
-    ('cube-bumps-limited5', 2): 'measured 1.77 / 5.16 / 4.67% against 2.16 / 4.80 / 3.93% (x1.19)',
-    ('cube-bumps-limited5', 'auto'): 'measured 1.29 / 2.73 / 1.91% against 2.28 / 2.55 / 1.89% (x1.07)',
     ('plate-holes', 1): 'measured 3.19 / 1.48 / 2.56% against 2.77 / 1.35 / 2.15% (x1.19)',
     ('plate-holes', 2): 'measured 2.08 / 1.03 / 1.77% against 1.80 / 1.15 / 1.62% (x1.15)',
     ('plate-holes', 'auto'): 'measured 1.30 / 0.71 / 1.20% against 1.21 / 1.11 / 1.35% (x1.07)',
