@@ -1,4 +1,4 @@
-"""Triangulating polygons that virtual refinement spans badly: concave, straight-cornered and thin ones.
+"""Triangulating polygons that virtual refinement spans badly: concave, straight-cornered, thin, non-planar n-gons.
 
 Virtual refinement (:mod:`heatcore.domains.polygon`) spans a polygon by the
 fan of triangles around one virtual vertex. On a concave polygon (an L, a U, a
@@ -13,8 +13,10 @@ and the error grows with every level (the same grid: 0.64, 0.75, 1.20, 2.00%
 at 1-4 levels, against 0.59, 0.52, 0.50, 0.49% with those polygons
 triangulated). A thin polygon's fan has obtuse triangles that refinement
 multiplies (a UV sphere's rows next to a pole: 3-5.7 times the triangles'
-error from the pole, :data:`THIN_SIDE_RATIO`). These kinds are triangulated
-here; the other polygons keep
+error from the pole, :data:`THIN_SIDE_RATIO`). An n-gon far from a plane spans
+no definite surface (:data:`NONPLANAR_NGON`). These kinds are triangulated
+here, and so are whole the parts left mostly triangles (:data:`MOSTLY_TRIANGLES`);
+the other polygons keep
 virtual refinement, which is the more accurate operator on them
 (docs/polygon.md: hexagons 0.60% against 1.35% for their triangles).
 
