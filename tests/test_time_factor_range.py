@@ -20,7 +20,7 @@ spot + a small cheburashka         1.247   1.246   1.222   0.992   0.124   zeros
 The smoothed distance (the paper's large-t limit) is reached by m = 1e5 on every mesh (spot 1.246 at
 1e5, 1.247 at 1e6; mean relative error 15.0-15.1%, the limit's own), and from m = 1e9 the heat's
 variation sinks into rounding. The cap 1e6 keeps 3 decades from the first failure. Tiny m (down to
-5e-324) is harmless: the underflow guard raises it (spot: 0.0355), so there is no lower bound beyond 0.
+5e-324) is harmless: the underflow guard raises it (spot: 0.0267), so there is no lower bound beyond 0.
 """
 
 import numpy as np
@@ -96,7 +96,7 @@ def test_the_cap_does_not_depend_on_the_scale(spot_exact, scale):
 def test_tiny_m_is_raised_by_the_guard_and_stays_a_distance(spot_exact, m):
     V, F, exact = spot_exact
     solver = hc.HeatSolver(hc.TriangleMesh(V, F), m=m)
-    assert solver.m == m and solver.m_effective > 0.01  # the underflow guard's floor (0.0355 on spot)
+    assert solver.m == m and solver.m_effective > 0.01  # the underflow guard's floor (0.0267 on spot)
     assert_a_distance(solver.distance([0]), exact, max_ratio=(0.9, 1.05), mean_error=0.10)
 
 
