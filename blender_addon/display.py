@@ -26,6 +26,8 @@ Outside Blender, with stand-ins for the context's window manager and area:
 
 #: Seconds between two looks at a background build (the modal timer).
 TIMER_STEP = 0.1
+#: Seconds between two looks at a resting mouse (:meth:`ProgressDisplay.wake`).
+WAKE_STEP = 0.04
 
 
 class ProgressDisplay:
@@ -55,6 +57,7 @@ class ProgressDisplay:
         self.workspace, self.area = getattr(context, "workspace", None), getattr(context, "area", None)
         self.title, self.keys = title, keys
         self.timer = self.wm.event_timer_add(TIMER_STEP, window=self.window)
+        self.waking = None  # the timer of wake(), after the build
         self.wm.progress_begin(0, 100)
         self.ended = False
 
@@ -78,6 +81,14 @@ class ProgressDisplay:
         if self.workspace is not None:
             self._try(self.workspace.status_text_set, status)
 
+    def wake(self, on=True):
+        """Keep a timer waking the tool while ``on`` (after the build: the probe's drag waits for the mouse to rest)."""
+        if on and self.timer is None and not self.ended:
+            self.waking = self.wm.event_timer_add(WAKE_STEP, window=self.window) if self.waking is None else self.waking
+        elif not on and self.waking is not None:
+            self._try(self.wm.event_timer_remove, self.waking)
+            self.waking = None
+
     def ready(self):
         """The build is over: no more timer or progress indicator (the texts stay)."""
         if self.timer is not None:
@@ -91,6 +102,7 @@ class ProgressDisplay:
             return
         self.ended = True
         self.ready()
+        self.wake(False)
         self.text(None, None)
         if self.area is not None:
             self._try(self.area.tag_redraw)

@@ -46,6 +46,10 @@ from .stages import (
 #: Probes running now: the depsgraph handler flags them when anything changes.
 _ACTIVE = weakref.WeakSet()
 
+#: From this many solver vertices a drag shows the coarse preview (``heatcore.CoarsePreview``: about 40 ms
+#: at 1M vertices, where a query takes 0.5 s) until the mouse rests (:meth:`GeodesicProbe.settle`).
+PREVIEW_FROM = 200_000
+
 
 class GeodesicProbe:
     """Interactive geodesic distance on one mesh object: sources at surface points, written on confirm.
@@ -88,6 +92,8 @@ class GeodesicProbe:
         self.target = self.path = self.distance = None
         self.changed = False
         self.ended = False
+        #: Whether the field shown is the solver's (False: the coarse preview of a drag, until :meth:`settle`).
+        self.exact = True
         #: A drag under way (set by the tool between press and release): the overlay skips the isoline curves.
         self.dragging = False
         self._adopted = False
@@ -132,7 +138,21 @@ class GeodesicProbe:
         if progress is not None:
             progress(0.8, "preparing the ray casting")
         self.surface.build_tree()
+        if self._previews():
+            if progress is not None:
+                progress(0.9, "a coarse copy of the mesh, for fast drags")
+            self._preview()
         return self.run.solver
+
+    def _previews(self):
+        """Whether drags show the coarse preview: a large mesh (``PREVIEW_FROM``) measured as triangles."""
+        domain = self.run.solver.domain
+        return isinstance(domain, heatcore.TriangleMesh) and domain.operators.n_vertices >= PREVIEW_FROM
+
+    def _preview(self):
+        """The coarse preview of the solver's mesh (kept in the domain's cache: made once per solver)."""
+        domain = self.run.solver.domain
+        return domain.derived.get_or_build(("coarse preview", None), lambda: heatcore.CoarsePreview(domain))
 
     def _adopt(self):
         """Keep what was built: the solver in the add-on's cache, the tree beside it."""
@@ -230,7 +250,7 @@ class GeodesicProbe:
         b = np.asarray(barycentric, dtype=np.float64).reshape(3)
         return face, b
 
-    def move_to(self, face, barycentric=None):
+    def move_to(self, face, barycentric=None, preview=False):
         """Move the dragged source (the last placed; the first one if none) to a surface point.
 
         Parameters
@@ -239,6 +259,10 @@ class GeodesicProbe:
             A loop triangle of the mesh, or a vertex index when ``barycentric`` is None.
         barycentric : (3,) array_like, optional
             Coordinates in the triangle's corners (>= 0, summing to 1).
+        preview : bool
+            On a large mesh (``PREVIEW_FROM``), show the coarse preview
+            (``heatcore.CoarsePreview``) instead of the solver's field: a drag's move.
+            :meth:`settle` (the mouse at rest) shows the solver's.
 
         Returns
         -------
@@ -251,7 +275,14 @@ class GeodesicProbe:
             return self.add(face, barycentric)
         previous = self.sources[self.active]
         self.sources[self.active] = point
-        return self._update(undo=lambda: self.sources.__setitem__(self.active, previous))
+        return self._update(undo=lambda: self.sources.__setitem__(self.active, previous),
+                            preview=preview and self._previews())
+
+    def settle(self):
+        """Replace a drag's coarse preview by the solver's field (the mouse at rest); the distance."""
+        if not self.exact and self.sources:
+            self._update(undo=lambda: None)
+        return self.distance
 
     def add(self, face, barycentric=None):
         """Add a source at a surface point (or a vertex); it becomes the dragged one. Returns the distance."""
@@ -284,18 +315,20 @@ class GeodesicProbe:
             return None
         return self._update(undo=undo)
 
-    def _update(self, undo):
+    def _update(self, undo, preview=False):
         start = time.perf_counter()
         vertices = [s for s, b in self.sources if b is None]
         points = [(s, b) for s, b in self.sources if b is not None]
+        solver = self._preview() if preview else self.run.solver
         try:
-            self.distance = self.run.placement.distance(self.run.solver.distance(
+            self.distance = self.run.placement.distance(solver.distance(
                 vertices or None,
                 points=(np.array([f for f, _ in points]), np.array([b for _, b in points])) if points else None,
             ))
         except heatcore.HeatcoreError:
             undo()  # the field stays that of the sources before
             raise
+        self.exact = not preview
         queried = time.perf_counter()
         if self.target is not None:
             self.path = None  # from the old sources: recomputed by update_path()
@@ -336,6 +369,7 @@ class GeodesicProbe:
     def end_drag(self):
         """The button is up: the path follows the moved source, the overlay gets its isoline curves again."""
         self.dragging = False
+        self.settle()
         if self.target is not None and self.path is None and self.sources:
             self.update_path()
         else:
@@ -397,6 +431,7 @@ class GeodesicProbe:
         obj = self.check()
         run = self.run
         check_outputs(obj, **run.outputs)
+        self.settle()  # never a drag's coarse preview written
         dmax = write_outputs(obj, self.distance, run.space, **run.outputs)
         write_probe_curves(self, obj)
         if push_undo and bpy.ops.ed.undo_push.poll():

@@ -20,6 +20,8 @@ Examples
 """
 
 
+import time
+
 import bpy
 from bpy.app.handlers import persistent
 from bpy.props import BoolProperty
@@ -45,6 +47,8 @@ NAVIGATION = frozenset({
     "NUMPAD_MINUS", "NUMPAD_SLASH", "NUMPAD_ASTERIX", *(f"NUMPAD_{i}" for i in range(10)),
 })
 MOVES = frozenset({"MOUSEMOVE", "INBETWEEN_MOUSEMOVE"})
+#: A drag's mouse at rest this long (seconds): the solver's field replaces the coarse preview.
+REST_SECONDS = 0.08
 CONFIRM = frozenset({"RET", "NUMPAD_ENTER"})
 CANCEL = frozenset({"ESC", "RIGHTMOUSE"})
 KEYS = "click: source · drag: move it · Shift+click: add · Ctrl+click: path to · Enter: apply · Esc: cancel"
@@ -81,6 +85,7 @@ class ProbeSession:
         self.release_confirms = release_confirms
         self.pending = press
         self.dragging = False
+        self.moved_at = 0.0  # time.perf_counter() of the drag's last move
         self.released = False  # the tool's button released while the solver was being built
         self.result = None
         self.keys = TOOL_KEYS if release_confirms else KEYS
@@ -101,6 +106,8 @@ class ProbeSession:
                 self.probe.check()
         except REPORTED_ERRORS as exc:
             return self.cancel(str(exc), "ERROR")
+        if kind.startswith("TIMER") and self.dragging and not self.probe.exact:
+            self._rest()
         if kind.startswith("TIMER") or kind in NAVIGATION:
             return {"PASS_THROUGH"}
         try:
@@ -160,8 +167,10 @@ class ProbeSession:
         hit = self._hit(event)
         if hit is None:
             return
-        if self.dragging:
-            self.probe.move_to(hit.face, hit.barycentric)
+        if self.dragging:  # on a large mesh the coarse preview, until the mouse rests (_rest)
+            self.probe.move_to(hit.face, hit.barycentric, preview=True)
+            self.moved_at = time.perf_counter()
+            self.display.wake(not self.probe.exact)
             self._say_field()
             return
         d = self.probe.distance_at(hit.face, hit.barycentric)
@@ -169,6 +178,16 @@ class ProbeSession:
             self.display.text(f"{self.probe.run.object_name}: click on the surface to place the source", self.keys)
         else:
             self.display.text(f"Distance under the cursor: {self._format(d)}", self.keys)
+
+    def _rest(self):
+        """The mouse at rest for ``REST_SECONDS`` during a drag: the solver's field replaces the coarse preview."""
+        if time.perf_counter() - self.moved_at >= REST_SECONDS:
+            try:
+                self.probe.settle()
+            except REPORTED_ERRORS as exc:
+                self.display.text(str(exc), self.keys)
+            self.display.wake(False)
+            self._say_field()
 
     def _press(self, event):
         self.probe.check()  # every press: never a stale field
@@ -189,7 +208,8 @@ class ProbeSession:
 
     def _release(self):
         self.dragging = False
-        self.probe.end_drag()  # the path follows the moved source, the isoline curves come back
+        self.probe.end_drag()  # the solver's field (no preview), the path follows, the isoline curves come back
+        self.display.wake(False)
         return self.confirm() if self.release_confirms else {"RUNNING_MODAL"}
 
     def _format(self, value):

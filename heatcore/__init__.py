@@ -28,12 +28,14 @@ from .errors import (
 )
 from .heat import HeatSolver
 from .paths import GeodesicPath
+from .preview import CoarsePreview
 from .settings import MeshSettings, OutputSettings, Settings, SolverSettings
 from .vector_heat import VectorHeatSolver
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "CoarsePreview",
     "Domain",
     "GeodesicPath",
     "HeatSolver",

@@ -88,6 +88,7 @@ def bench(addon, obj, label, steps):
     center, radius = V.mean(axis=0), np.linalg.norm(V[:, :2] - V[:, :2].mean(axis=0), axis=1).max()
     top = V[:, 2].max() + 1.0
     rows = {k: [] for k in ("ray", "query", "overlay", "update", "jump", "vertex query", "writes instead")}
+    errors = []  # the coarse preview's mean error, of the largest distance
     start_x = center[0] + 0.8 * radius
     probe.dragging = True  # as the tool sets it between press and release: no isoline curves
     for i in range(steps):  # a drag: a third of an edge per mouse move, straight-down rays
@@ -111,6 +112,16 @@ def bench(addon, obj, label, steps):
         hit = probe.ray_cast((center[0] - radius * (0.8 + 0.03 * i), center[1] + 0.1 * i, top), (0.0, 0.0, -1.0))
         probe.move_to(hit.face, hit.barycentric)
         rows["jump"].append(probe.timings["update"])
+    if probe._previews():  # a large mesh: the drag again, as the tool makes it (the coarse preview)
+        rows["preview build"] = [timed(addon.probe.heatcore.CoarsePreview, probe.run.solver.domain)[0]]
+        rows["preview update"], rows["settle"] = [], []
+        for i in range(steps):
+            hit = probe.ray_cast((start_x + i * edge / 3, center[1] + 0.01, top), (0.0, 0.0, -1.0))
+            probe.move_to(hit.face, hit.barycentric, preview=True)
+            rows["preview update"].append(probe.timings["update"] + timed(probe.overlay_data)[0])
+            coarse = probe.distance.copy()
+            rows["settle"].append(timed(probe.settle)[0])
+            errors.append(float(np.abs(coarse - probe.distance).mean() / probe.distance.max()))
     rows["release"] = [timed(probe.end_drag)[0]]  # the button up: the overlay with heatcore's isoline curves
     t_check, _ = timed(probe.check)
     probe.cancel()
@@ -119,7 +130,10 @@ def bench(addon, obj, label, steps):
     med = {k: statistics.median(v) for k, v in rows.items()}
     print(f"{label}: {n:,} vertices, first start {build:.1f} s (solver and ray tree), cached start {t_start:.2f} s, "
           f"check {t_check * 1e3:.0f} ms, " + ", ".join(f"{k} {v * 1e3:.1f} ms" for k, v in med.items()), flush=True)
-    return {"label": label, "n": n, "build": build, "start": t_start, "check": t_check, **med}
+    if errors:
+        print(f"  coarse preview: mean error {100 * statistics.median(errors):.2f}% of the largest distance")
+    return {"label": label, "n": n, "build": build, "start": t_start, "check": t_check, **med,
+            "preview error": statistics.median(errors) if errors else None}
 
 
 def table(results):
@@ -127,13 +141,20 @@ def table(results):
             "ray cast | update after a jump | vertex query | writes instead (per update) | release (isoline curves) "
             "| check (each press) | start, solver cached | first start (build) |")
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
+    extra = ["", "Drags on large meshes (`PREVIEW_FROM` solver vertices) show the coarse preview "
+             "(`heatcore.CoarsePreview`) until the mouse rests:", "",
+             "| mesh | preview update (query + overlay) | settle (the solver's field) | preview error (mean, of the "
+             "largest distance) | preview build |", "|---|---|---|---|---|"]
     for r in results:
         ms = lambda k: f"{r[k] * 1e3:.0f} ms" if r[k] >= 0.01 else f"{r[k] * 1e3:.1f} ms"  # noqa: E731
+        if "preview update" in r:
+            extra.append(f"| {r['label']} | **{ms('preview update')}** | {ms('settle')} | "
+                         f"{100 * r['preview error']:.2f}% | {r['preview build']:.1f} s |")
         lines.append(f"| {r['label']} | {r['n']:,} | **{ms('update')}** | {ms('query')} | {ms('overlay')} | "
                      f"{ms('ray')} | {ms('jump')} | {ms('vertex query')} | {ms('writes instead')} | {ms('release')} | "
                      f"{ms('check')} | "
                      f"{r['start']:.2f} s | {r['build']:.1f} s |")
-    return "\n".join(lines)
+    return "\n".join(lines + (extra if len(extra) > 5 else []))
 
 
 def main():

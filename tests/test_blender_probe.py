@@ -64,9 +64,13 @@ class RecordingDisplay:
 
     def __init__(self):
         self.texts, self.progresses, self.ended, self.readied = [], [], 0, 0
+        self.awake = False
 
     def text(self, message, keys):
         self.texts.append(message)
+
+    def wake(self, on=True):
+        self.awake = on
 
     def progress(self, fraction, message):
         self.progresses.append((fraction, message))
@@ -674,3 +678,42 @@ def test_menus_panel_and_toolbar_have_the_probe(addon, mods):  # noqa: F811
     from pathlib import Path
 
     assert 'layout.operator("mesh.heat_geodesic_probe"' in Path(addon.panel.__file__).read_text()
+
+
+# ---------------------------------------------------------------- the coarse preview of a drag (large meshes)
+
+
+def test_a_drag_on_a_large_mesh_shows_the_coarse_preview_until_the_mouse_rests(mods, monkeypatch):
+    """Issue 34: 0.56 s per update at 1M vertices; a drag now shows a coarse field (about 40 ms there)
+    and the solver's field once the mouse rests (REST_SECONDS) or the button is up; confirm writes the exact one."""
+    monkeypatch.setattr(mods["probe"], "PREVIEW_FROM", 100)  # a small grid stands in for a large mesh
+    monkeypatch.setattr(mods["probe_tool"], "REST_SECONDS", 0.0)
+    obj = grid(40)
+    probe = mods["probe"].GeodesicProbe(obj, isolines=8)
+    s, _ = session(mods, probe)
+    s.handle(Event("LEFTMOUSE", "PRESS", *to_mouse(-0.5, -0.5)))
+    assert probe.exact  # a press: the solver's field
+    s.handle(Event("MOUSEMOVE", "NOTHING", *to_mouse(-0.4, -0.5)))
+    assert not probe.exact and s.display.awake  # the preview, and a timer to see the rest
+    preview = probe.distance.copy()
+    exact = probe.run.solver.distance(points=([probe.sources[0][0]], [probe.sources[0][1]]))
+    assert np.isfinite(preview).all() and not np.allclose(preview, exact)
+    assert np.abs(preview - exact).mean() < 0.05 * exact.max()  # coarse, not wrong
+    assert s.handle(Event("TIMER", "NOTHING")) == {"PASS_THROUGH"}  # the mouse at rest
+    assert probe.exact and not s.display.awake
+    np.testing.assert_allclose(probe.distance, exact, rtol=1e-12, atol=1e-12)
+    s.handle(Event("MOUSEMOVE", "NOTHING", *to_mouse(-0.3, -0.5)))
+    assert not probe.exact
+    result = probe.confirm()  # never the preview written
+    assert probe.exact
+    expected = probe.run.solver.distance(points=([probe.sources[0][0]], [probe.sources[0][1]]))
+    np.testing.assert_allclose(result.distance, expected, rtol=1e-12, atol=1e-12)
+
+
+def test_small_meshes_drag_with_the_solvers_field(mods):
+    obj = grid(12)
+    probe = mods["probe"].GeodesicProbe(obj, isolines=8)
+    s, _ = session(mods, probe)
+    s.handle(Event("LEFTMOUSE", "PRESS", *to_mouse(-0.5, -0.5)))
+    s.handle(Event("MOUSEMOVE", "NOTHING", *to_mouse(-0.4, -0.5)))
+    assert probe.exact and not s.display.awake

@@ -39,6 +39,7 @@ KINDS = {
     "straight segments": "every vertex's straight segments (Domain.index_straight_neighbours); None",
     "displayed surface": "Blender: the probe's DisplayedSurface with its ray-casting tree; None",
     "probe sources": "Blender: the sources of the probe tool's last click on this mesh; None",
+    "coarse preview": "CoarsePreview, the fast coarse answer of a drag on a large mesh (preview.py); None",
 }
 
 
