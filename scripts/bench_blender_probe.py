@@ -141,10 +141,10 @@ def table(results):
             "ray cast | update after a jump | vertex query | writes instead (per update) | release (isoline curves) "
             "| check (each press) | start, solver cached | first start (build) |")
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
-    extra = ["", "Drags on large meshes (`PREVIEW_FROM` solver vertices) show the coarse preview "
-             "(`heatcore.CoarsePreview`) until the mouse rests:", "",
-             "| mesh | preview update (query + overlay) | settle (the solver's field) | preview error (mean, of the "
-             "largest distance) | preview build |", "|---|---|---|---|---|"]
+    extra = ["", ("Drags on large meshes (`PREVIEW_FROM` solver vertices) show the coarse preview "
+                  "(`heatcore.CoarsePreview`) until the mouse rests:"), "",
+             ("| mesh | preview update (query + overlay) | settle (the solver's field) | preview error (mean, of the "
+              "largest distance) | preview build |"), "|---|---|---|---|---|"]
     for r in results:
         ms = lambda k: f"{r[k] * 1e3:.0f} ms" if r[k] >= 0.01 else f"{r[k] * 1e3:.1f} ms"  # noqa: E731
         if "preview update" in r:
