@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import heatcore as hc
-from heatcore.domains.flat_parts import flat_faces, flat_part_faces
+from heatcore.domains.flat_parts import flat_faces, flat_parts
 from heatcore.errors import HeatcoreWarning, InvalidMeshError, InvalidSourceError
 
 
@@ -97,7 +97,8 @@ def test_a_sliver_inside_a_surface_is_kept():
     V = np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [1, 1, 0]], float)
     F = np.array([[0, 1, 2], [0, 2, 3]])
     assert flat_faces(V, F).tolist() == [True, False]
-    assert not flat_part_faces(V, F).any()
+    assert flat_parts(V, F, np.array([0, 0]), 1).tolist() == [False]
+    assert flat_parts(V, F[::-1], np.array([0, 0]), 1).tolist() == [False]  # the flat face first or last
 
 
 def test_a_dense_soup_is_refined_by_its_faces_not_its_vertices():

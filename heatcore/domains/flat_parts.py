@@ -19,13 +19,12 @@ Examples
 >>> F = np.array([[0, 1, 2], [3, 4, 5]])
 >>> flat_faces(V, F).tolist()
 [True, False]
->>> flat_part_faces(V, F).tolist()
+>>> flat_parts(V, F, np.array([0, 1]), 2).tolist()
 [True, False]
 """
 
 import numpy as np
 
-from .parts import vertex_components
 
 #: A face is flat when twice its area is at most this fraction of its longest
 #: edge squared (a triangle 1e12 times longer than high). Collinear corners
@@ -67,37 +66,49 @@ def _has_area(e1, e2, ratio):
 
     Squares that overflow (inf) or underflow (0) give False: "not certainly
     with area", for :func:`flat_faces` to check again in the face's scale.
+    Computed column by column (twice as fast as over rows of three).
     """
-    e3 = e2 - e1
+    (ux, uy, uz), (wx, wy, wz) = np.asarray(e1).T, np.asarray(e2).T
     with np.errstate(over="ignore", under="ignore", invalid="ignore"):
-        cross = np.cross(e1, e2)
-        longest = np.max([np.einsum("ij,ij->i", e, e) for e in (e1, e2, e3)], axis=0)
-        return np.einsum("ij,ij->i", cross, cross) > ratio * ratio * longest * longest
+        cx, cy, cz = uy * wz - uz * wy, uz * wx - ux * wz, ux * wy - uy * wx
+        dx, dy, dz = wx - ux, wy - uy, wz - uz
+        longest = np.maximum(np.maximum(ux * ux + uy * uy + uz * uz, wx * wx + wy * wy + wz * wz),
+                             dx * dx + dy * dy + dz * dz)
+        return cx * cx + cy * cy + cz * cz > ratio * ratio * longest * longest
 
 
-def flat_part_faces(V, F):
-    """Which faces belong to a connected part whose faces are all flat (:func:`flat_faces`).
+def flat_parts(V, F, face_part, n_parts):
+    """Which connected parts have only flat faces (:func:`flat_faces`): parts with no area.
+
+    Each part's first face is tested first; only the faces of parts whose
+    first face is flat are tested all (a clean mesh costs one test per part).
 
     Parameters
     ----------
     V : (n, 3) float array
     F : (m, 3) int array
         Faces without repeated vertices.
+    face_part : (m,) int array
+        The connected part of each face.
+    n_parts : int
 
     Returns
     -------
-    (m,) bool array
+    (n_parts,) bool array
 
     Examples
     --------
-    >>> V = np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [1, 1, 0]], float)
-    >>> flat_part_faces(V, np.array([[0, 1, 2], [0, 1, 3]])).tolist()   # a sliver in a real part stays
-    [False, False]
+    >>> V = np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [1, 1, 0], [5, 0, 0], [6, 0, 0], [7, 0, 0]], float)
+    >>> F = np.array([[0, 1, 2], [0, 1, 3], [4, 5, 6]])   # a sliver in a part with area; a flat part
+    >>> flat_parts(V, F, np.array([0, 0, 1]), 2).tolist()
+    [False, True]
     """
-    flat = flat_faces(V, F)
-    if not flat.any():
-        return flat
-    count, part = vertex_components(F, V.shape[0])
-    face_part = part[F[:, 0]]
-    has_area = np.bincount(face_part[~flat], minlength=count) > 0
-    return ~has_area[face_part]
+    first = np.full(n_parts, -1, dtype=np.int64)
+    first[face_part[::-1]] = np.arange(len(F))[::-1]  # the last write wins: each part's first face
+    doubtful = np.zeros(n_parts, dtype=bool)
+    doubtful[first >= 0] = flat_faces(V, F[first[first >= 0]])
+    if not doubtful.any():
+        return doubtful
+    look = np.flatnonzero(doubtful[face_part])
+    with_area = np.bincount(face_part[look[~flat_faces(V, F[look])]], minlength=n_parts) > 0
+    return doubtful & ~with_area

@@ -27,7 +27,7 @@ from ..progress import Progress
 from ..settings import MeshSettings
 from .base import MeshDomain
 from .cotan import intrinsic_operators
-from .flat_parts import flat_part_faces
+from .flat_parts import flat_parts
 from .intrinsic import face_edge_lengths
 from .parts import in_part_units, unit_exponents, vertex_components
 from .refine import (
@@ -161,9 +161,16 @@ class TriangleMesh(MeshDomain):
         progress(0.0, "welding coincident vertices" if tolerance is not None else "reading the triangles")
         representative, self.n_welded = weld_map(self.vertices, tolerance) if tolerance is not None else (None, 0)
         faces = representative[self.faces] if self.n_welded else self.faces  # no copy where nothing was welded
-        kept = self._faces_with_area(faces)
+        kept = clean_elements(faces, stacklevel=3)
+        if not kept.any():
+            welded = " once coincident vertices are welded" if self.n_welded else ""
+            raise InvalidMeshError(
+                f"every face has a repeated vertex{welded}: all edges have zero length, the mesh has no area"
+            )
         progress(0.1, "finding connected parts")
         V_used, F_used, part = self._surface(faces, kept, representative)
+        if self._drop_flat_parts(faces, kept, V_used, F_used, part):
+            V_used, F_used, part = self._surface(faces, kept, representative)
         self.parts_left_out = 0
         if only_parts_of is not None and self.n_parts > 1 and self._keep_parts_of(only_parts_of, faces, kept, part):
             V_used, F_used, part = self._surface(faces, kept, representative)
@@ -191,32 +198,29 @@ class TriangleMesh(MeshDomain):
         self.operators = self._build_operators(self.subdivision.carry(part, F_used), progress.part(0.4, 1.0))
         progress(1.0, "triangle mesh ready")
 
-    def _faces_with_area(self, faces):
-        """The faces kept: no repeated vertex, no duplicate, not in a part with no area (:mod:`.flat_parts`)."""
-        kept = clean_elements(faces, stacklevel=4)
-        welded = " once coincident vertices are welded" if self.n_welded else ""
-        if not kept.any():
-            raise InvalidMeshError(
-                f"every face has a repeated vertex{welded}: all edges have zero length, the mesh has no area"
-            )
-        flat = np.zeros_like(kept)
-        flat[kept] = flat_part_faces(self.vertices, faces[kept])
+    def _drop_flat_parts(self, faces, kept, V_used, F_used, part):
+        """Drop from ``kept`` the faces of parts with no area (:mod:`.flat_parts`), with a warning; whether any went."""
+        face_part = part[F_used[:, 0]]
+        flat = flat_parts(V_used, F_used, face_part, self.n_parts)
         if not flat.any():
-            return kept
-        if flat[kept].all():
+            return False
+        if flat.all():
+            welded = " once coincident vertices are welded" if self.n_welded else ""
             raise InvalidMeshError(
                 f"the mesh has no area{welded}: the corners of every face are collinear or coincident, "
                 "so there is no surface for heat to spread on"
             )
-        on_flat = self._left_out(faces[flat], faces[kept & ~flat], "lies on a part with no area (the corners of all "
-                                 "its faces are collinear or coincident), where heat cannot spread")
+        kept_faces, on_flat_part = faces[kept], flat[face_part]
+        on_flat = self._left_out(kept_faces[on_flat_part], kept_faces[~on_flat_part], "lies on a part with no "
+                                 "area (the corners of all its faces are collinear or coincident), where heat cannot spread")
         warnings.warn(
-            f"ignored {int(flat.sum()):,} faces on {int(on_flat.sum()):,} vertices: they form parts "
+            f"ignored {int(on_flat_part.sum()):,} faces on {int(on_flat.sum()):,} vertices: they form parts "
             "with no area (collinear or coincident corners); those vertices are unreachable (inf)",
             HeatcoreWarning,
             stacklevel=3,
         )
-        return kept & ~flat
+        kept[kept] = ~on_flat_part
+        return True
 
     def _surface(self, faces, kept, representative):
         """Number the vertices the ``kept`` faces use; sets ``vertex_map``, ``face_map`` and ``n_parts``.
