@@ -167,7 +167,8 @@ class HeatSolver:
         h = np.broadcast_to(ops.mean_edge_length, (n,))
         step = vertex_time_steps(self.part_m, self.component, ops.mean_edge_length)  # in each vertex's unit
         self._element_h = h[0] if (h == h[0]).all() else h[ops.elements[:, 0]]
-        self.t = np.ldexp(step[ground], 2 * np.broadcast_to(ops.unit_exponent, (n,))[ground])
+        with np.errstate(over="ignore", under="ignore"):  # a part at 1e200 has t = 1e400: inf in float64, as reported
+            self.t = np.ldexp(step[ground], 2 * np.broadcast_to(ops.unit_exponent, (n,))[ground])
         time_step = step[0] if (step == step[0]).all() else step
         return HeatStep(time_step, self.boundary, self.component, self.n_components, ground)
 
