@@ -163,9 +163,8 @@ class TriangleMesh(MeshDomain):
         faces = representative[self.faces] if self.n_welded else self.faces  # no copy where nothing was welded
         kept = clean_elements(faces, stacklevel=3)
         if not kept.any():
-            welded = " once coincident vertices are welded" if self.n_welded else ""
             raise InvalidMeshError(
-                f"every face has a repeated vertex{welded}: all edges have zero length, the mesh has no area"
+                f"every face has a repeated vertex{self._welded()}: all edges have zero length, the mesh has no area"
             )
         progress(0.1, "finding connected parts")
         V_used, F_used, part = self._surface(faces, kept, representative)
@@ -198,6 +197,10 @@ class TriangleMesh(MeshDomain):
         self.operators = self._build_operators(self.subdivision.carry(part, F_used), progress.part(0.4, 1.0))
         progress(1.0, "triangle mesh ready")
 
+    def _welded(self):
+        """What an error about the faces adds when welding changed them."""
+        return " once coincident vertices are welded" if self.n_welded else ""
+
     def _drop_flat_parts(self, faces, kept, V_used, F_used, part):
         """Drop from ``kept`` the faces of parts with no area (:mod:`.flat_parts`), with a warning; whether any went."""
         face_part = part[F_used[:, 0]]
@@ -205,9 +208,8 @@ class TriangleMesh(MeshDomain):
         if not flat.any():
             return False
         if flat.all():
-            welded = " once coincident vertices are welded" if self.n_welded else ""
             raise InvalidMeshError(
-                f"the mesh has no area{welded}: the corners of every face are collinear or coincident, "
+                f"the mesh has no area{self._welded()}: the corners of every face are collinear or coincident, "
                 "so there is no surface for heat to spread on"
             )
         kept_faces, on_flat_part = faces[kept], flat[face_part]
