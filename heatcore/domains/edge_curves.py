@@ -95,7 +95,7 @@ def edge_curves(faces, edges, inside=None, positions=None):
     e = edge_list(edges, max(n, int(np.max(edges, initial=-1)) + 1))
     curves = _chains(e)
     area = face_areas_of(faces, positions)
-    owner = _half_edge_faces(faces)
+    owner = _HalfEdges(faces)
     weight = np.zeros(len(faces)) if inside is None else np.bincount(
         index_list(inside, len(faces), "face"), minlength=len(faces)).astype(float)
     return [_oriented(c, faces, owner, area, weight) for c in curves]
@@ -115,11 +115,24 @@ def face_areas_of(faces, positions=None):
     return face_areas(np.linalg.norm(X[np.roll(faces, -1, axis=1)] - X[faces], axis=2))
 
 
-def _half_edge_faces(faces):
-    """``{(a, b): face}`` for every directed side of every face."""
-    half = np.stack([faces, np.roll(faces, -1, axis=1)], axis=2).reshape(-1, 2)
-    owner = np.repeat(np.arange(len(faces)), 3)
-    return {(int(a), int(b)): int(f) for (a, b), f in zip(half, owner)}
+class _HalfEdges:
+    """The face of each directed side ``a -> b`` of the faces, looked up by sorted integer keys."""
+
+    def __init__(self, faces):
+        self.base = int(faces.max(initial=0)) + 1
+        half = np.stack([faces, np.roll(faces, -1, axis=1)], axis=2).reshape(-1, 2)
+        key = half[:, 0] * self.base + half[:, 1]
+        order = np.argsort(key, kind="stable")
+        self.keys, self.faces = key[order], np.repeat(np.arange(len(faces)), 3)[order]
+
+    def faces_of(self, a, b):
+        """Faces holding the directed sides ``a[i] -> b[i]`` (those that exist)."""
+        a, b = np.asarray(a, dtype=np.int64), np.asarray(b, dtype=np.int64)
+        inside = (a < self.base) & (b < self.base)
+        key = a[inside] * self.base + b[inside]
+        pos = np.clip(np.searchsorted(self.keys, key), 0, max(self.keys.size - 1, 0))
+        found = self.keys[pos] == key if self.keys.size else np.zeros(key.size, bool)
+        return self.faces[pos[found]]
 
 
 def _chains(edges):
@@ -174,9 +187,8 @@ def _oriented(curve, faces, owner, area, weight):
     if curve[0] != curve[-1]:
         return curve
     pairs = list(zip(curve[:-1].tolist(), curve[1:].tolist()))
-    left = [owner[p] for p in pairs if p in owner]
-    right = [owner[(b, a)] for a, b in pairs if (b, a) in owner]
-    if not left or not right:
+    left, right = owner.faces_of(curve[:-1], curve[1:]), owner.faces_of(curve[1:], curve[:-1])
+    if not left.size or not right.size:
         return curve
     side = _sides(faces, pairs)
     left_parts, right_parts = set(side[left]), set(side[right])
