@@ -27,7 +27,7 @@ from .errors import (
     UnsupportedDomainError,
 )
 from .heat import HeatSolver
-from .paths import GeodesicPath
+from .paths import GeodesicPath, TracedPath, trace_geodesic
 from .preview import CoarsePreview
 from .settings import MeshSettings, OutputSettings, Settings, SolverSettings
 from .vector_heat import VectorHeatSolver
@@ -54,6 +54,7 @@ __all__ = [
     "SolverError",
     "SolverSettings",
     "TetMesh",
+    "TracedPath",
     "TriangleMesh",
     "UnsupportedDomainError",
     "VectorHeatSolver",
@@ -63,6 +64,7 @@ __all__ = [
     "linalg",
     "options",
     "settings",
+    "trace_geodesic",
 ]
 
 

@@ -426,6 +426,23 @@ class HeatSolver:
 
         return geodesic_path(self, source, target, both_ends)
 
+    def trace(self, start, direction, length):
+        """The straightest path on the surface from ``start`` along ``direction`` for ``length`` (triangle meshes).
+
+        ``start``: a vertex index or ``(face, barycentric)``; ``direction``: a
+        3D vector (projected on the tangent plane) or ``(x, y)`` in the start
+        vertex's tangent basis (:meth:`VectorHeatSolver.tangent_basis`). The
+        path crosses the input faces straight, leaves a vertex with half its
+        angle on either side, and stops after ``length`` or at the boundary.
+        Returns a :class:`~heatcore.paths.tracing.TracedPath` (``points``,
+        ``faces``, ``end``, ``length``, ``stopped``); see
+        :func:`heatcore.trace_geodesic` and docs/paths.md. No query of the
+        factorizations: the walk reads only the mesh.
+        """
+        from .paths.tracing import trace  # paths import this module
+
+        return trace(self.domain, start, direction, length)
+
     def heat(self, impulse):
         """Heat after one backward Euler step of length ``t`` from ``impulse`` ((n,), or (n, k): k columns at once)."""
         return self.heat_flow.solve(impulse)

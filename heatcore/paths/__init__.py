@@ -7,6 +7,7 @@
 - :mod:`~heatcore.paths.path`: :class:`GeodesicPath` and the driver;
 - :mod:`~heatcore.paths.fields`: the distance fields a solver keeps for paths
   (:class:`PathFieldCache`, held by the solver as ``path_fields``);
+- :mod:`~heatcore.paths.tracing`: :func:`trace_geodesic`, straightest geodesics from a point and a direction;
 - :mod:`~heatcore.paths.edges`: :func:`edge_chain`, mesh edges along a path (front ends select them).
 
 Examples
@@ -20,5 +21,6 @@ Examples
 from .edges import edge_chain
 from .fields import PathFieldCache
 from .path import GeodesicPath
+from .tracing import TracedPath, trace_geodesic
 
-__all__ = ["GeodesicPath", "PathFieldCache", "edge_chain"]
+__all__ = ["GeodesicPath", "PathFieldCache", "TracedPath", "edge_chain", "trace_geodesic"]
