@@ -201,3 +201,25 @@ def test_leaving_a_boundary_vertex_off_the_surface_stops_at_once():
     V, F = grid(5, 5)
     path = hc.trace_geodesic(V, F, 0, [-1.0, -1.0, 0.0], 1.0)
     assert path.stopped == "boundary" and path.length == 0.0 and path.points.shape == (1, 3)
+
+
+def test_trace_command_writes_a_polyline_that_reads_back(tmp_path, capsys):
+    from heatcore.apps.cli import main
+
+    V, F = grid(11, 11)
+    mesh = tmp_path / "grid.obj"
+    mesh.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in V) + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in F))
+    out = tmp_path / "t.csv"
+    assert main(["trace", str(mesh), "--from", "60", "--direction", "1", "0", "0", "--length", "0.3", "-o", str(out),
+                 "-o", str(tmp_path / "t.obj"), "-q"]) == 0
+    points = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert np.abs(points[-1] - (V[60] + [0.3, 0, 0])).max() < 1e-12
+    assert "stopped: length" in capsys.readouterr().out
+    assert main(["trace", str(mesh), "--from", "3:0.2,0.3,0.5", "--direction", "1", "0", "0", "--length", "9",
+                 "-o", str(out), "-q"]) == 0
+    assert "stopped: boundary" in capsys.readouterr().out
+    assert main(["trace", str(mesh), "--from", "0", "--direction", "1", "0", "0", "0", "--length", "1", "-o", str(out)]) == 2
+    assert main(["trace", str(mesh), "--from", "0", "--direction", "1", "0", "0", "--length", "-1", "-o", str(out)]) == 2
+    assert main(["trace", str(mesh), "--from", "0", "--direction", "1", "0", "0", "--length", "1", "-o", "t.txt"]) == 2
+    assert main(["trace", str(mesh), "--from", "999", "--direction", "1", "0", "0", "--length", "1", "-o", str(out)]) == 1
+    assert main(["trace", str(mesh), "--from", "0", "--direction", "0", "0", "1", "--length", "1", "-o", str(out)]) == 1

@@ -73,6 +73,7 @@ from .reporting import (
     show_warning,
     timed_stage,
 )
+from .trace_command import TRACE_DESCRIPTION, TRACE_HELP, run_trace, trace_arguments
 
 log = logging.getLogger("heatcore.apps.cli")
 
@@ -324,6 +325,7 @@ command("logmap", arguments=logmap_arguments,
         "Blender and as texture coordinates by MeshLab; the distance as quality and colors), .npy or .csv "
         "(index,u,v); unreachable vertices get inf.")(run_logmap)
 command("path", arguments=path_arguments, help=PATH_HELP, description=PATH_DESCRIPTION)(run_path)
+command("trace", arguments=trace_arguments, help=TRACE_HELP, description=TRACE_DESCRIPTION)(run_trace)
 
 
 # --------------------------------------------------------------------------- batch

@@ -1,0 +1,194 @@
+"""The ``heatcore trace`` command: the straightest geodesic from a point of a mesh file along a direction.
+
+``heatcore trace MESH --from A --direction X Y Z --length L -o trace.obj``
+reads the mesh, traces :func:`heatcore.paths.tracing.trace` (as
+:meth:`heatcore.HeatSolver.trace`) and writes the polyline as ``heatcore path``
+does (``.obj``, ``.ply``, ``.csv``); the length travelled, why the walk
+stopped and where it ended go to stdout. ``A`` is a vertex index (0-based) or
+``FACE:B0,B1,B2``; the direction is a 3D vector (projected on the tangent
+plane at ``A``) or two coordinates in ``A``'s tangent basis (the vector heat
+method's, as ``heatcore logmap`` uses it). The mesh options (``--weld``,
+``--refine``, ...) are those of the other commands; no solver is built.
+
+Exit status as for ``heatcore path``: 2 for a command line that is wrong
+before any file is read, 1 for a bad mesh, start or direction.
+
+Examples
+--------
+>>> import tempfile
+>>> from pathlib import Path
+>>> from heatcore.io import demo_mesh_path
+>>> from heatcore.apps.cli import main
+>>> tmp = tempfile.TemporaryDirectory()
+>>> out = str(Path(tmp.name) / "t.csv")
+>>> main(["trace", str(demo_mesh_path()), "--from", "0", "--direction", "0", "0", "1", "--length", "0.5",
+...       "-o", out, "-q"])  # doctest: +ELLIPSIS
+length 0.5 (stopped: length, ... points), end face ... at (...)
+wrote .../t.csv
+0
+>>> tmp.cleanup()
+"""
+
+import argparse
+import logging
+from pathlib import Path
+
+from .. import options
+from ..errors import InvalidMeshError
+from .arguments import add_common_options, settings_of, solver_option_names
+from .inputs import read_mesh_file
+from .outputs import CliError, UsageError, same_file
+from .path_command import PATH_SUFFIXES, surface_point, write_path
+from .reporting import timed_stage
+
+log = logging.getLogger("heatcore.apps.cli")
+
+TRACE_HELP = "the straightest geodesic from a point along a direction, as a polyline (.obj, .ply, .csv)"
+TRACE_DESCRIPTION = (
+    "Trace the straightest geodesic on the surface of a triangle mesh from a point (a vertex index, or "
+    "FACE:B0,B1,B2 inside a face) along a direction (X Y Z, projected on the tangent plane; or X Y in the "
+    "start vertex's tangent basis) for a length: straight across every face and edge, with half the angle "
+    "on either side where it meets a vertex, stopping at the length or the boundary. Output by extension: "
+    ".obj (v and l elements), .ply (vertex and edge elements), .csv (x,y,z). The length travelled, why it "
+    "stopped and the end point (FACE:B0,B1,B2) are printed."
+)
+
+
+def length_value(text):
+    """Parse ``--length``: a finite number >= 0.
+
+    Examples
+    --------
+    >>> length_value("2.5")
+    2.5
+    >>> length_value("-1")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: the length is a number >= 0, got '-1'
+    """
+    try:
+        value = float(text)
+    except ValueError:
+        value = -1.0
+    if not (value >= 0.0 and value < float("inf")):
+        raise argparse.ArgumentTypeError(f"the length is a number >= 0, got {text!r}")
+    return value
+
+
+def trace_arguments(p):
+    """Add the arguments of ``heatcore trace``: the mesh, the start, the direction, the length, outputs.
+
+    Examples
+    --------
+    >>> from heatcore.apps.arguments import OneLineErrorParser
+    >>> p = OneLineErrorParser(prog="heatcore trace")
+    >>> trace_arguments(p)
+    >>> args = p.parse_args(["spot.obj", "--from", "5:0.2,0.3,0.5", "--direction", "1", "0", "0",
+    ...                      "--length", "2", "-o", "t.obj"])
+    >>> args.start, args.direction, args.length
+    ((5, [0.2, 0.3, 0.5]), [1.0, 0.0, 0.0], 2.0)
+    """
+    p.add_argument("mesh", type=Path, metavar="MESH", help="triangle (or polygon) mesh file: OBJ, PLY, OFF, STL, ...")
+    p.add_argument("--from", dest="start", type=surface_point, required=True, metavar="POINT",
+                   help="where the trace starts: a vertex index, or FACE:B0,B1,B2 for a point inside a face")
+    p.add_argument("--direction", type=float, nargs="+", required=True, metavar="X",
+                   help="X Y Z: a 3D vector, projected on the tangent plane at the start; or X Y: coordinates in "
+                        "the start vertex's tangent basis (the vector heat method's); its length does not matter")
+    p.add_argument("--length", type=length_value, required=True, metavar="L",
+                   help="how far to go, in mesh units (the trace stops earlier at the boundary)")
+    p.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
+                   help="polyline file, format by extension: .obj (v and l elements), .ply (vertex and edge "
+                        "elements), .csv (x,y,z); repeat for several. Written whole or not at all")
+    p.add_argument("--overwrite", action="store_true", help="allow an output to replace the mesh file")
+    add_mesh_options(p)
+    add_common_options(p)
+
+
+def add_mesh_options(parser):
+    """Add the command line's mesh options (``--weld``, ``--refine``, ...): a trace builds no solver.
+
+    Examples
+    --------
+    >>> from heatcore.apps.arguments import OneLineErrorParser
+    >>> p = OneLineErrorParser(prog="demo")
+    >>> add_mesh_options(p)
+    >>> args = p.parse_args(["--refine", "0"])
+    >>> args.refine, hasattr(args, "m")
+    (0, False)
+    """
+    group = parser.add_argument_group("mesh options")
+    for name in solver_option_names("cli"):
+        if options.OPTIONS[name].target == "mesh":
+            options.add_argument(group, name, front_end="cli")
+
+
+def run_trace(args):
+    """Run ``heatcore trace``: read the mesh, trace, write each output; returns 0.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> from heatcore.io import demo_mesh_path
+    >>> from heatcore.apps.cli import build_parser
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> out = Path(tmp.name) / "t.obj"
+    >>> run_trace(build_parser().parse_args(["trace", str(demo_mesh_path()), "--from", "0", "--direction", "0",
+    ...                                      "0", "1", "--length", "0", "-o", str(out)]))  # doctest: +ELLIPSIS
+    length 0 (stopped: length, 1 point), end face ... at (...)
+    wrote .../t.obj
+    0
+    >>> tmp.cleanup()
+    """
+    if len(args.direction) not in (2, 3):
+        raise UsageError(f"--direction takes 3 numbers (X Y Z) or 2 (X Y in the tangent basis), got "
+                         f"{len(args.direction)}")
+    check_outputs(args.output, args.mesh, args.overwrite)
+    with timed_stage("read mesh"):
+        mesh = read_mesh_file(args.mesh)
+    from ..paths.tracing import trace
+
+    settings = settings_of(args)
+    try:
+        with timed_stage("prepare"):
+            domain = mesh.domain(settings.mesh)
+    except InvalidMeshError as exc:
+        raise InvalidMeshError(f"{args.mesh}: {exc}") from exc
+    with timed_stage("trace"):
+        path = trace(domain, args.start, args.direction, args.length)
+    face, bary = path.end
+    count = f"{len(path.points)} points" if len(path.points) > 1 else "1 point"
+    print(f"length {path.length:.10g} (stopped: {path.stopped}, {count}), end face {face} at "
+          f"({','.join(f'{b:.10g}' for b in bary)})")
+    header = (f"heatcore trace from {args.start} along {' '.join(f'{x:g}' for x in args.direction)} on "
+              f"{Path(args.mesh).name}, length {path.length:.17g} (stopped: {path.stopped})")
+    with timed_stage("write"):
+        for out in args.output:
+            write_path(out, path.points, header=header)
+            print(f"wrote {out}")
+    return 0
+
+
+def check_outputs(outputs, mesh, overwrite):
+    """Refuse unusable output names before the mesh is read (as ``heatcore path``).
+
+    Examples
+    --------
+    >>> check_outputs(["t.txt"], "m.obj", False)
+    Traceback (most recent call last):
+    ...
+    heatcore.apps.outputs.UsageError: output t.txt: unknown extension '.txt'; use one of .obj, .ply, .csv
+    """
+    if not outputs:
+        raise UsageError("nothing to write: give -o/--output FILE (.obj, .ply, .csv)")
+    seen = []
+    for out in map(Path, outputs):
+        if out.suffix.lower() not in PATH_SUFFIXES:
+            raise UsageError(f"output {out}: unknown extension {out.suffix!r}; use one of {', '.join(PATH_SUFFIXES)}")
+        if any(out == other or same_file(out, other) for other in seen):
+            raise UsageError(f"output {out} is given twice")
+        if not overwrite and same_file(out, mesh):
+            raise UsageError(f"output {out} is the mesh file; write elsewhere, or pass --overwrite to replace it")
+        if not out.parent.is_dir() or out.is_dir():
+            raise CliError(f"cannot write {out}: {'it is a folder' if out.is_dir() else 'its folder does not exist'}")
+        seen.append(out)
