@@ -214,7 +214,12 @@ def test_trace_command_writes_a_polyline_that_reads_back(tmp_path, capsys):
                  "-o", str(tmp_path / "t.obj"), "-q"]) == 0
     points = np.loadtxt(out, delimiter=",", skiprows=1)
     assert np.abs(points[-1] - (V[60] + [0.3, 0, 0])).max() < 1e-12
-    assert "stopped: length" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "stopped: length" in printed
+    end = printed.split(" end ")[1].split()[0]  # FACE:B0,B1,B2, a start again
+    assert main(["trace", str(mesh), "--from", end, "--direction", "1", "0", "0", "--length", "0.1", "-o", str(out),
+                 "-q"]) == 0
+    assert np.abs(np.loadtxt(out, delimiter=",", skiprows=1)[0] - points[-1]).max() < 1e-12
     assert main(["trace", str(mesh), "--from", "3:0.2,0.3,0.5", "--direction", "1", "0", "0", "--length", "9",
                  "-o", str(out), "-q"]) == 0
     assert "stopped: boundary" in capsys.readouterr().out

@@ -23,7 +23,7 @@ Examples
 >>> out = str(Path(tmp.name) / "t.csv")
 >>> main(["trace", str(demo_mesh_path()), "--from", "0", "--direction", "0", "0", "1", "--length", "0.5",
 ...       "-o", out, "-q"])  # doctest: +ELLIPSIS
-length 0.5 (stopped: length, ... points), end face ... at (...)
+length 0.5 (stopped: length, ... points), end ...:...,...,...
 wrote .../t.csv
 0
 >>> tmp.cleanup()
@@ -50,7 +50,7 @@ TRACE_DESCRIPTION = (
     "start vertex's tangent basis) for a length: straight across every face and edge, with half the angle "
     "on either side where it meets a vertex, stopping at the length or the boundary. Output by extension: "
     ".obj (v and l elements), .ply (vertex and edge elements), .csv (x,y,z). The length travelled, why it "
-    "stopped and the end point (FACE:B0,B1,B2) are printed."
+    "stopped and the end point (FACE:B0,B1,B2, a start for another trace) are printed."
 )
 
 
@@ -135,7 +135,7 @@ def run_trace(args):
     >>> out = Path(tmp.name) / "t.obj"
     >>> run_trace(build_parser().parse_args(["trace", str(demo_mesh_path()), "--from", "0", "--direction", "0",
     ...                                      "0", "1", "--length", "0", "-o", str(out)]))  # doctest: +ELLIPSIS
-    length 0 (stopped: length, 1 point), end face ... at (...)
+    length 0 (stopped: length, 1 point), end ...:...,...,...
     wrote .../t.obj
     0
     >>> tmp.cleanup()
@@ -158,8 +158,8 @@ def run_trace(args):
         path = trace(domain, args.start, args.direction, args.length)
     face, bary = path.end
     count = f"{len(path.points)} points" if len(path.points) > 1 else "1 point"
-    print(f"length {path.length:.10g} (stopped: {path.stopped}, {count}), end face {face} at "
-          f"({','.join(f'{b:.10g}' for b in bary)})")
+    print(f"length {path.length:.10g} (stopped: {path.stopped}, {count}), end {face}:"
+          f"{','.join(f'{b:.17g}' for b in bary)}")
     header = (f"heatcore trace from {args.start} along {' '.join(f'{x:g}' for x in args.direction)} on "
               f"{Path(args.mesh).name}, length {path.length:.17g} (stopped: {path.stopped})")
     with timed_stage("write"):
