@@ -228,3 +228,61 @@ def test_trace_command_writes_a_polyline_that_reads_back(tmp_path, capsys):
     assert main(["trace", str(mesh), "--from", "0", "--direction", "1", "0", "0", "--length", "1", "-o", "t.txt"]) == 2
     assert main(["trace", str(mesh), "--from", "999", "--direction", "1", "0", "0", "--length", "1", "-o", str(out)]) == 1
     assert main(["trace", str(mesh), "--from", "0", "--direction", "0", "0", "1", "--length", "1", "-o", str(out)]) == 1
+
+
+def test_faces_oriented_either_way_unfold_alike():
+    V, F = grid(21, 21, jitter=0.3)
+    rng = np.random.default_rng(0)
+    flip = rng.random(len(F)) < 0.5
+    mixed = np.where(flip[:, None], F[:, ::-1], F)
+    centre = np.flatnonzero(np.linalg.norm(V[F].mean(axis=1) - [0.5, 0.5, 0], axis=1) < 0.15)
+    for f in rng.choice(centre, 10):
+        bary, angle = rng.dirichlet([1, 1, 1]), rng.uniform(0, 2 * np.pi)
+        d = np.array([np.cos(angle), np.sin(angle), 0.0])
+        path = hc.trace_geodesic(V, mixed, (int(f), bary[::-1] if flip[f] else bary), d, 0.3)
+        assert np.linalg.norm(path.points[-1] - (bary @ V[F[f]] + 0.3 * d)) < 1e-12
+
+
+def ring_mesh(heights):
+    """A vertex at the origin with one ring at the given heights and a second ring twice as far (a cone or saddle)."""
+    n = len(heights)
+    angle = np.arange(n) * 2 * np.pi / n
+    ring = np.c_[np.cos(angle), np.sin(angle), heights]
+    V = np.r_[[[0.0, 0.0, 0.0]], ring, 2 * ring]
+    F = []
+    for k in range(n):
+        a, b = 1 + k, 1 + (k + 1) % n
+        F += [[0, a, b], [a, a + n, b + n], [a, b + n, b]]
+    return V, np.array(F)
+
+
+def fan_angle(mesh, v, x):
+    """Angle of direction ``x - P[v]`` around vertex ``v``, from the first edge of its fan."""
+    faces, first, second, angles, _ = mesh.fan(v)
+    P, x = mesh.positions, x - mesh.positions[v]
+
+    def between(u, w):
+        return np.arctan2(np.linalg.norm(np.cross(u, w)), u @ w)
+
+    for k in range(len(faces)):
+        t = between(P[first[k]] - P[v], x)
+        if abs(t + between(P[second[k]] - P[v], x) - angles[k]) < 1e-9:
+            return sum(angles[:k]) + t
+    raise AssertionError("direction in no face of the fan")
+
+
+@pytest.mark.parametrize("heights", [[-0.5] * 7, [0.5 * (-1) ** k for k in range(8)],
+                                     [0.6 * np.cos(6 * np.pi * k / 9) for k in range(9)]],
+                         ids=["cone", "saddle", "monkey saddle"])
+def test_through_a_vertex_half_the_angle_on_either_side(heights):
+    from heatcore.paths.surface import PathMesh
+
+    V, F = ring_mesh(heights)
+    mesh = PathMesh(hc.TriangleMesh(V, F, refine=0))
+    total = sum(mesh.fan(0)[3])
+    for g in (2, 5):  # faces of the outer ring, aimed at the centre vertex
+        start = np.array([0.3, 0.3, 0.4]) @ V[F[g]]
+        path = hc.trace_geodesic(V, F, (g, [0.3, 0.3, 0.4]), V[0] - start, 3.0)
+        k = int(np.flatnonzero(np.linalg.norm(path.points - V[0], axis=1) < 1e-12)[0])
+        side = (fan_angle(mesh, 0, path.points[k + 1]) - fan_angle(mesh, 0, path.points[k - 1])) % total
+        assert side == pytest.approx(total / 2, abs=1e-9)
