@@ -154,7 +154,8 @@ class HeatSolver:
         # every side of each element, not a star from its first corner: the hop count is the surface's, whatever
         # corner each element lists first (a PolygonMesh and a TriangleMesh of the same triangles get the same t)
         graph = edge_graph(ops.elements, n)
-        self.n_components, self.component = vertex_components(ops.elements, n, graph)
+        parts = ops.parts if ops.parts is not None else vertex_components(ops.elements, n, graph)
+        self.n_components, self.component = parts
         hops = hop_diameters(graph, self.component, self.n_components)
         del graph
         self.hop_diameter = int(hops.max())

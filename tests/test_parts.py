@@ -250,3 +250,19 @@ def test_hop_diameter_is_the_surfaces_not_the_corner_order():
         count, part = vertex_components(faces, 3 * n, graph)
         hops.append(hop_diameters(graph, part, count).tolist())
     assert hops[0] == hops[1] == [n + 1]  # corner to the opposite corner against the diagonals
+
+
+@pytest.mark.parametrize("refine", [0, 2, "auto"])
+def test_triangle_mesh_hands_the_solver_the_parts_of_its_operators(spot, refine):
+    """The parts a TriangleMesh found on its input faces (carried to refined vertices) are those of its
+    operators' elements, numbered alike: the solver takes them instead of finding them again."""
+    V, F = spot
+    small = (0.2 * V[: len(V) // 2] + [3.0, 0, 0], F[(F < len(V) // 2).all(axis=1)])  # spot cut in half
+    V, F, _ = together((V, F), small, (np.eye(3) + [5.0, 0, 0], np.array([[0, 1, 2]])))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hc.HeatcoreWarning)
+        ops = hc.TriangleMesh(V, F, refine=refine, weld=None).operators
+    count, part = ops.parts
+    expected = hc.domains.parts.vertex_components(ops.elements, ops.n_vertices)
+    assert count == expected[0] >= 3
+    assert part.dtype == expected[1].dtype and np.array_equal(part, expected[1])

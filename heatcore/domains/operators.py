@@ -43,6 +43,11 @@ class Operators:
     boundary_surface : BoundarySurface or None
         The boundary as outward-wound triangles, where the domain gives it
         (tet meshes): sources on it get Robin heat (:mod:`heatcore.steps.boundary_source`).
+    parts : (count, (n,) int array) pair or None
+        The connected parts of the vertices, numbered as
+        :func:`~heatcore.domains.parts.vertex_components` numbers those of
+        ``elements``, where the domain has them already (triangle meshes:
+        the parts it found on its input faces); None: the solver finds them.
 
     Examples
     --------
@@ -64,6 +69,7 @@ class Operators:
     mean_edge_length: object
     unit_exponent: object = 0
     boundary_surface: object = None
+    parts: object = None
 
     @property
     def n_vertices(self):

@@ -93,7 +93,8 @@ def vertex_components(elements, n, graph=None):
     n : int
         Number of vertices.
     graph : sparse matrix, optional
-        :func:`vertex_graph` of the elements, if already built.
+        A graph of the elements' vertices with these components (:func:`vertex_graph`, :func:`edge_graph`),
+        if already built.
 
     Returns
     -------
@@ -105,9 +106,12 @@ def vertex_components(elements, n, graph=None):
     >>> vertex_components(np.array([[0, 1, 2]]), 4)[0]
     2
     """
-    if graph is None:
-        graph = vertex_graph(elements, n)
-    count, part = connected_components(graph, directed=True, connection="weak")  # symmetric graph
+    if graph is None:  # a star per element, one way: weak components need no mirrored copy
+        k = elements.shape[1]
+        rows = np.repeat(elements[:, 0], k - 1)
+        graph = sp.csr_matrix((np.ones(rows.size), (rows, elements[:, 1:].ravel())), shape=(n, n))
+    # Each part is numbered by its smallest vertex, whatever graph joins them.
+    count, part = connected_components(graph, directed=True, connection="weak")
     return int(count), part
 
 

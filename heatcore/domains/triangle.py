@@ -286,6 +286,9 @@ class TriangleMesh(MeshDomain):
             progress=progress,
         )
         self.n_flips, self.thin_parts, self.intrinsic = built.n_flips, built.thin_parts, built.intrinsic
+        # The parts of the input faces, carried to the refined vertices: flips keep parts, and each part is still
+        # numbered by its smallest vertex (an input vertex), so they are the parts of the operators' elements.
+        built.operators.parts = (self.n_parts, part)
         self.mollification = np.ldexp(built.eps * built.h, self.unit_exponent)
         # Only the build needs the refined mesh's edges (1M vertices: 48-96 MB).
         self.subdivision = dataclasses.replace(sub, mesh_edges=None, side_edge=None)

@@ -219,9 +219,12 @@ class SparseForwardSolver:
 
     def _reach(self, columns):
         """Supernodes with nonzeros in ``L^{-1} e_k`` for the columns ``k``, ascending; None if too many."""
+        starts = np.unique(self._supernode_of(columns))
+        if starts.size > self._max_supernodes or self._sizes[starts].sum() > self._max_size:
+            return None  # the walk below visits each of them: it would give up too (a dense right-hand side)
         visited = set()
         size = 0
-        for supernode in np.unique(self._supernode_of(columns)).tolist():
+        for supernode in starts.tolist():
             while supernode >= 0 and supernode not in visited:
                 visited.add(supernode)
                 size += self._sizes[supernode]

@@ -99,10 +99,14 @@ def cvxopt_indices(a):
 def _to_cvxopt(A):
     """The lower triangle of a sparse symmetric matrix as a ``cvxopt.spmatrix``."""
     cvxopt = _cvxopt()
-    lower = sp.tril(A, format="coo")
-    return cvxopt.spmatrix(
-        cvxopt.matrix(lower.data.astype(np.float64)), cvxopt_indices(lower.row), cvxopt_indices(lower.col), A.shape
-    )
+    if sp.isspmatrix_csr(A):  # sp.tril's entries, in its order, without a COO copy of the whole matrix
+        rows = np.repeat(np.arange(A.shape[0], dtype=A.indices.dtype), np.diff(A.indptr))
+        lower = rows >= A.indices
+        row, col, data = rows[lower], A.indices[lower], A.data[lower]
+    else:
+        lower = sp.tril(A, format="coo")
+        row, col, data = lower.row, lower.col, lower.data
+    return cvxopt.spmatrix(cvxopt.matrix(data.astype(np.float64)), cvxopt_indices(row), cvxopt_indices(col), A.shape)
 
 
 def minimum_degree(A):
