@@ -230,10 +230,16 @@ class IntrinsicTriangulation:
         renamed = np.full(self.twin.size, -1, dtype=np.int64)  # scratch for _flip
         allowed = np.ones(self.faces.shape[0], dtype=bool) if flippable is None else np.asarray(flippable, bool)
         candidates = np.flatnonzero(self.twin > np.arange(self.twin.size))
+        cotangents = None  # every corner's, once many edges are asked about; then kept up to date
         for _ in range(max_rounds):
             candidates = candidates[allowed[candidates // 3] & allowed[self.twin[candidates] // 3]]
             h, t = candidates, self.twin[candidates]
-            cot_sum = _opposite_cotangent_sums(self.lengths, h, t)
+            if cotangents is None and 2 * h.size > self.lengths.shape[0]:  # many faces: all at once is faster
+                cotangents = corner_cotangents(self.lengths).ravel()
+            if cotangents is None:
+                cot_sum = _corner_cotangent(self.lengths, h) + _corner_cotangent(self.lengths, t)
+            else:
+                cot_sum = cotangents[h] + cotangents[t]
             f0, f1 = h // 3, t // 3
             # The tolerance follows the rounding of the cotangents, (a^2 + b^2 - c^2) / 4A: on needle
             # triangles it is large, and two cocircular configurations would otherwise flip forever.
@@ -249,10 +255,12 @@ class IntrinsicTriangulation:
             total += int(chosen.sum())
             # Only edges of the flipped faces, and bad edges left for later, can be non-Delaunay now.
             touched = np.concatenate([f0[chosen], f1[chosen]])
+            if cotangents is not None:  # a face's cotangents depend on its lengths alone: the same numbers
+                cotangents.reshape(-1, 3)[touched] = corner_cotangents(self.lengths[touched])
             sides = np.concatenate([(3 * touched[:, None] + np.arange(3)).ravel(), h[~chosen]])
             twins = self.twin[sides]
             inner = twins >= 0
-            candidates = np.unique(np.minimum(sides[inner], twins[inner]))
+            candidates = _sorted_unique(np.minimum(sides[inner], twins[inner]), self.twin.size)
         return total
 
     def _flip(self, h0, h1, renamed):
@@ -372,12 +380,13 @@ def _independent_edges(f0, f1, score, n_faces):
     return (best[f0] == rank) & (best[f1] == rank)
 
 
-def _opposite_cotangent_sums(lengths, h, t):
-    """Sum of the cotangents of the corners opposite half-edges ``h`` and their twins ``t``."""
-    if 2 * h.size > lengths.shape[0]:  # many faces: all of them at once, once, is faster
-        cotangents = corner_cotangents(lengths).ravel()
-        return cotangents[h] + cotangents[t]
-    return _corner_cotangent(lengths, h) + _corner_cotangent(lengths, t)
+def _sorted_unique(values, bound):
+    """``np.unique(values)`` of integers in ``0 .. bound - 1``: a mask where there are many, a sort where few."""
+    if 16 * values.size < bound:
+        return np.unique(values)
+    seen = np.zeros(bound, dtype=bool)
+    seen[values] = True
+    return np.flatnonzero(seen)
 
 
 def _corner_cotangent(lengths, h):
