@@ -121,6 +121,15 @@ def mesh_arrays(V, F):
     return V, F
 
 
+def _sorted_rows(E):
+    """``np.sort(E, axis=1)``; rows of three by a sorting network (3x faster than numpy's sort of each row)."""
+    if E.ndim != 2 or E.shape[1] != 3:
+        return np.sort(E, axis=1)
+    a, b, c = E[:, 0], E[:, 1], E[:, 2]
+    low, high = np.minimum(a, b), np.maximum(a, b)
+    return np.column_stack([np.minimum(low, c), np.maximum(low, np.minimum(high, c)), np.maximum(high, c)])
+
+
 def _may_have_duplicate_rows(S):
     """False when the rows of ``S`` are certainly distinct (one sort of one integer key per row)."""
     if S.shape[0] < 2:
@@ -161,8 +170,10 @@ def clean_elements(E, element="face", stacklevel=3):
     ...     clean_elements(np.array([[0, 1, 2], [2, 1, 0], [0, 0, 1]])).tolist()
     [True, False, False]
     """
-    S = np.sort(E, axis=1)
-    repeated = (S[:, 1:] == S[:, :-1]).any(axis=1)
+    S = _sorted_rows(E)
+    repeated = np.zeros(E.shape[0], dtype=bool)
+    for j in range(1, S.shape[1]):  # column by column: several times faster than .any(axis=1) on thin rows
+        repeated |= S[:, j] == S[:, j - 1]
     unique = np.ones(E.shape[0], dtype=bool)
     if _may_have_duplicate_rows(S):
         order = np.lexsort(S.T[::-1])

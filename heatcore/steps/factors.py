@@ -182,7 +182,7 @@ class SolverFactors:
     def _factor_heat(self, heat, progress):
         """Factor ``M + t L`` for the boundary condition (Neumann, interior-only Dirichlet, or both)."""
         ops, step, backend = self.ops, heat.time_step, self.heat_backend
-        heat_matrix = (sp.diags(ops.mass) + (step * ops.laplacian if np.ndim(step) == 0 else sp.diags(step) @ ops.laplacian)).tocsr()
+        heat_matrix = _heat_matrix(ops.mass, step, ops.laplacian)
         dirichlet, interior = None, None
         if heat.boundary in ("robin", "dirichlet"):
             interior = np.flatnonzero(~ops.boundary)
@@ -218,3 +218,19 @@ class SolverFactors:
         """Factor of the Laplacian on the ``free`` vertices (a pinned system of many pins), ordered as the Laplacian."""
         ordering = restrict_ordering(self._laplacian_ordering(self.heat_backend), free)
         return factor(self._laplacian[free][:, free], self.heat_backend, ordering=ordering)
+
+
+def _heat_matrix(mass, step, laplacian):
+    """``diags(mass) + step * laplacian`` as CSR; on the Laplacian's own pattern where it holds every diagonal entry
+    and the sum no zero (the numbers scipy's sum gives: ``mass + step * L_ii`` on the diagonal, ``step * L_ij`` off it)."""
+    L, n = laplacian, laplacian.shape[0]
+    if np.ndim(step) == 0 and sp.isspmatrix_csr(L) and L.has_canonical_format:
+        diagonal = L.indices == np.repeat(np.arange(n, dtype=L.indices.dtype), np.diff(L.indptr))
+        if np.count_nonzero(diagonal) == n:
+            data = L.data * step
+            data[diagonal] += mass
+            if np.all(data != 0):
+                return sp.csr_matrix((data, L.indices.copy(), L.indptr.copy()), shape=L.shape)
+    scaled = step * L if np.ndim(step) == 0 else sp.diags(step) @ L
+    return (sp.diags(mass) + scaled).tocsr()
+
