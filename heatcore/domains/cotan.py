@@ -141,7 +141,7 @@ class IntrinsicOperators(NamedTuple):
 
 def intrinsic_operators(
     V, F, edges, side_edge, *, part=None, n_parts=1, cover=None, rim=None, flip=True, thin_slack=None, unit_exponent=0,
-    progress=None,
+    progress=None, side_pairs=None,
 ):
     """Cotan operators of a triangle mesh, on its mollified intrinsic Delaunay triangulation.
 
@@ -187,6 +187,9 @@ def intrinsic_operators(
         Each part's length unit (see :class:`~heatcore.domains.operators.Operators`).
     progress : callable, optional
         ``progress(fraction, message)`` at each stage (see :mod:`heatcore.progress`).
+    side_pairs : (p, 2) int array, optional
+        The two sides of each edge of ``F`` with exactly two, where already found
+        (:func:`heatcore.domains.refine.unique_edges` with ``with_pairs``).
 
     Returns
     -------
@@ -250,7 +253,7 @@ def intrinsic_operators(
         else:
             lengths, eps = mollify(unit_lengths, relative_delta, part=face_part, n_parts=n_parts)
         if cover is None:
-            tri = IntrinsicTriangulation.from_mesh(None, F, lengths=lengths, side_edge=side_edge)
+            tri = IntrinsicTriangulation.from_mesh(None, F, lengths=lengths, side_edge=side_edge, side_pairs=side_pairs)
         else:
             tri = IntrinsicTriangulation(cover[0].copy(), lengths, cover[1].copy())
         return tri, eps, tri.flip_to_delaunay() if flip else 0

@@ -189,7 +189,7 @@ class IntrinsicTriangulation:
     twin: np.ndarray
 
     @classmethod
-    def from_mesh(cls, V, F, lengths=None, side_edge=None):
+    def from_mesh(cls, V, F, lengths=None, side_edge=None, side_pairs=None):
         """Build from vertex positions (or given lengths) and faces.
 
         Parameters
@@ -200,11 +200,14 @@ class IntrinsicTriangulation:
             Edge lengths to use instead of those measured from ``V``.
         side_edge : (m, 3) int array, optional
             Undirected edge ids of the face sides, if already known.
+        side_pairs : (p, 2) int array, optional
+            The two sides of each edge with exactly two, if already known
+            (:func:`~heatcore.domains.refine.unique_edges` with ``with_pairs``).
         """
         F = np.ascontiguousarray(F, dtype=np.int64)
         if lengths is None:
             lengths = face_edge_lengths(V, F)
-        return cls(F.copy(), np.array(lengths, dtype=float), halfedge_twins(F, side_edge))
+        return cls(F.copy(), np.array(lengths, dtype=float), halfedge_twins(F, side_edge, pairs=side_pairs))
 
     def flip_to_delaunay(self, max_rounds=10_000, flippable=None):
         """Flip non-Delaunay edges in independent batches until none is left.
@@ -311,7 +314,7 @@ class IntrinsicTriangulation:
         Lf[f1] = np.stack([l_il, l_kl, l_ki], axis=1)
 
 
-def halfedge_twins(F, side_edge=None, oriented=True):
+def halfedge_twins(F, side_edge=None, oriented=True, pairs=None):
     """Twin of each half-edge: the other half-edge of its edge, or ``-1``.
 
     The rule: two half-edges are twins when they are the only two on their
@@ -331,6 +334,10 @@ def halfedge_twins(F, side_edge=None, oriented=True):
         :func:`heatcore.domains.refine.unique_edges`); computed when not given.
     oriented : bool, default True
         Pair only half-edges of opposite directions.
+    pairs : (p, 2) int array, optional
+        The two half-edges of each edge with exactly two, where already found
+        (:func:`heatcore.domains.refine.unique_edges` with ``with_pairs``); then
+        ``side_edge`` is not read.
 
     Returns
     -------
@@ -346,6 +353,24 @@ def halfedge_twins(F, side_edge=None, oriented=True):
     >>> halfedge_twins(flipped).tolist(), halfedge_twins(flipped, oriented=False).tolist()
     ([-1, -1, -1, -1, -1, -1], [-1, 4, -1, -1, 1, -1])
     """
+    if pairs is None:
+        a, b = _pairs(F, side_edge)
+    else:
+        a, b = pairs[:, 0], pairs[:, 1]
+    tail = F[:, NEXT].ravel()
+    head = F[:, PREV].ravel()
+    forward = tail < head
+    # Both join the same two vertices (a loop joins one: neither runs forward).
+    keep = forward[a] != forward[b] if oriented else (tail[a] != head[a])
+    a, b = a[keep], b[keep]
+    twin = np.full(F.size, -1, dtype=np.int64)
+    twin[a] = b
+    twin[b] = a
+    return twin
+
+
+def _pairs(F, side_edge=None):
+    """The two half-edges of each edge with exactly two, by edge id, the smaller first."""
     if side_edge is None:
         side_edge = unique_edges(F)[1]
     key = side_edge.ravel()
@@ -357,17 +382,7 @@ def halfedge_twins(F, side_edge=None, oriented=True):
     np.minimum.at(first, key, halfedges)
     np.maximum.at(last, key, halfedges)
     paired = np.bincount(key, minlength=n_edges) == 2
-    a, b = first[paired], last[paired]
-    tail = F[:, NEXT].ravel()
-    head = F[:, PREV].ravel()
-    forward = tail < head
-    # Both join the same two vertices (a loop joins one: neither runs forward).
-    keep = forward[a] != forward[b] if oriented else (tail[a] != head[a])
-    a, b = a[keep], b[keep]
-    twin = np.full(key.size, -1, dtype=np.int64)
-    twin[a] = b
-    twin[b] = a
-    return twin
+    return first[paired], last[paired]
 
 
 def _independent_edges(f0, f1, score, n_faces):

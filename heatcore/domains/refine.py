@@ -106,6 +106,8 @@ class Subdivision:
     vertex_face : (n',) int array, input face a vertex lies strictly inside, or -1.
     mesh_edges : (k', 2) int array, the unique edges of the subdivided mesh.
     side_edge : (m', 3) int array, edge id (into ``mesh_edges``) of each face side.
+    side_pairs : (p, 2) int array or None, the two sides (half-edges ``3 f + c``) of each subdivided edge
+        that has exactly two, as :func:`unique_edges` gives them (None where it did not).
 
     Examples
     --------
@@ -122,6 +124,7 @@ class Subdivision:
     vertex_face: np.ndarray
     mesh_edges: np.ndarray
     side_edge: np.ndarray
+    side_pairs: np.ndarray = None
 
     def carry(self, labels, faces):
         """Extend per-vertex ``labels`` of the input mesh ``faces`` to every refined vertex.
@@ -142,29 +145,39 @@ class Subdivision:
         return np.r_[labels, labels[corner]]
 
 
-def unique_edges(F):
+def unique_edges(F, with_pairs=False):
     """Unique undirected edges of a face array, and each face side's edge id.
 
     Parameters
     ----------
     F : (m, 3) int array
+    with_pairs : bool, default False
+        Also return the sides of each edge that has exactly two, found by the
+        same sort (:func:`heatcore.domains.intrinsic.halfedge_twins` pairs them).
 
     Returns
     -------
     edges : (k, 2) int array of sorted vertex pairs
     side_edge : (m, 3) int array, edge id of the side opposite each corner
+    pairs : (p, 2) int array or None, only ``with_pairs``
+        Half-edges ``3 f + c`` (face ``f``'s side opposite corner ``c``), the
+        two of each edge with exactly two, the smaller first, by edge; None
+        on meshes too large for the one sort (the pairs are then left to find).
 
     Examples
     --------
     >>> edges, side_edge = unique_edges(np.array([[0, 1, 2], [0, 2, 3]]))
     >>> edges.tolist(), side_edge.tolist()
     ([[0, 1], [0, 2], [0, 3], [1, 2], [2, 3]], [[3, 1, 0], [4, 2, 1]])
+    >>> unique_edges(np.array([[0, 1, 2], [0, 2, 3]]), with_pairs=True)[2].tolist()   # edge 0-2
+    [[1, 5]]
     """
     a = F[:, [1, 2, 0]].ravel()
     b = F[:, [2, 0, 1]].ravel()
     n = int(F.max()) + 1 if F.size else 1
     key = np.minimum(a, b) * n + np.maximum(a, b)
     shift = int(key.size).bit_length()
+    pairs = None
     if key.size == 0 or (n * n) << shift >= 2**63:  # the key and its position do not fit one int64
         keys, inverse = np.unique(key, return_inverse=True)
     else:  # np.unique's result from one sort of key-and-position (800k vertices: 0.49 s against 0.70 s)
@@ -174,10 +187,22 @@ def unique_edges(F):
         first[0] = True
         np.not_equal(sorted_keys[1:], sorted_keys[:-1], out=first[1:])
         keys = sorted_keys[first]
+        del sorted_keys
+        side = packed & ((1 << shift) - 1)  # the sides, edge by edge, each edge's in ascending order
         inverse = np.empty(key.size, dtype=np.int64)
-        inverse[packed & ((1 << shift) - 1)] = np.cumsum(first) - 1
+        inverse[side] = np.cumsum(first) - 1
+        if with_pairs:
+            pairs = _side_pairs(side, first)
     edges = np.stack([keys // n, keys % n], axis=1)
-    return edges, inverse.reshape(F.shape)
+    return (edges, inverse.reshape(F.shape), pairs) if with_pairs else (edges, inverse.reshape(F.shape))
+
+
+def _side_pairs(side, first):
+    """The two sides of each edge with exactly two, from the sides listed edge by edge (``first``: an edge's first)."""
+    starts = np.flatnonzero(first)
+    two = np.diff(np.r_[starts, side.size]) == 2
+    starts = starts[two]
+    return np.stack([side[starts], side[starts + 1]], axis=1)
 
 
 def midpoint_subdivide(V, F, levels):
@@ -204,13 +229,17 @@ def midpoint_subdivide(V, F, levels):
     (17, 18)
     """
     face_levels = np.broadcast_to(np.asarray(levels, dtype=np.int64), (F.shape[0],))
-    edges, side_edge = cur_edges, cur_side = unique_edges(F)
+    most = int(face_levels.max()) if face_levels.size else 0
+    if most:
+        edges, side_edge = unique_edges(F)
+    else:  # these are the final faces: their sides' pairs too
+        edges, side_edge, pairs = unique_edges(F, with_pairs=True)
+    cur_edges, cur_side = edges, side_edge
     n = V.shape[0]
     vertex_edge = np.full(n, -1, dtype=np.int64)
     vertex_face = np.full(n, -1, dtype=np.int64)
     face_origin = np.arange(F.shape[0])
     side_origin = side_edge.copy()  # input edge id of each face side, -1 if interior
-    most = int(face_levels.max()) if face_levels.size else 0
     for level in range(most):
         if level:
             cur_edges, cur_side = unique_edges(F)
@@ -255,5 +284,5 @@ def midpoint_subdivide(V, F, levels):
         face_origin = np.r_[face_origin[~split], np.tile(face_origin[split], 4)]
         face_levels = np.r_[face_levels[~split], np.tile(face_levels[split], 4)]
     if most:
-        cur_edges, cur_side = unique_edges(F)
-    return Subdivision(V, F, edges, vertex_edge, vertex_face, cur_edges, cur_side)
+        cur_edges, cur_side, pairs = unique_edges(F, with_pairs=True)
+    return Subdivision(V, F, edges, vertex_edge, vertex_face, cur_edges, cur_side, pairs)

@@ -129,7 +129,7 @@ class TriangleMesh(MeshDomain):
     subdivision : Subdivision
         The (possibly midpoint-refined) mesh, in each part's unit; its first
         vertices are the input's referenced vertices, in ``vertex_map``
-        order. Its ``mesh_edges`` and ``side_edge`` are dropped (None) once
+        order. Its ``mesh_edges``, ``side_edge`` and ``side_pairs`` are dropped (None) once
         the operators are built.
 
     Examples
@@ -284,6 +284,7 @@ class TriangleMesh(MeshDomain):
             thin_slack=THIN_TRIANGLE_SLACK if robust else None,
             unit_exponent=self.unit_exponent,
             progress=progress,
+            side_pairs=sub.side_pairs,
         )
         self.n_flips, self.thin_parts, self.intrinsic = built.n_flips, built.thin_parts, built.intrinsic
         # The parts of the input faces, carried to the refined vertices: flips keep parts, and each part is still
@@ -291,7 +292,7 @@ class TriangleMesh(MeshDomain):
         built.operators.parts = (self.n_parts, part)
         self.mollification = np.ldexp(built.eps * built.h, self.unit_exponent)
         # Only the build needs the refined mesh's edges (1M vertices: 48-96 MB).
-        self.subdivision = dataclasses.replace(sub, mesh_edges=None, side_edge=None)
+        self.subdivision = dataclasses.replace(sub, mesh_edges=None, side_edge=None, side_pairs=None)
         return built.operators
 
     def eikonal_triangles(self):
