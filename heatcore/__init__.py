@@ -29,7 +29,9 @@ from .errors import (
 from .heat import HeatSolver
 from .paths import GeodesicPath, TracedPath, trace_geodesic
 from .preview import CoarsePreview
+from .domains.edge_curves import edge_curves, region_boundary_curves
 from .settings import MeshSettings, OutputSettings, Settings, SolverSettings
+from .signed_heat import SignedHeatSolver
 from .vector_heat import VectorHeatSolver
 
 __version__ = "0.1.0"
@@ -51,6 +53,7 @@ __all__ = [
     "PointCloud",
     "PolygonMesh",
     "Settings",
+    "SignedHeatSolver",
     "SolverError",
     "SolverSettings",
     "TetMesh",
@@ -58,11 +61,13 @@ __all__ = [
     "TriangleMesh",
     "UnsupportedDomainError",
     "VectorHeatSolver",
+    "edge_curves",
     "geodesic_distance",
     "io",
     "isolines",
     "linalg",
     "options",
+    "region_boundary_curves",
     "settings",
     "trace_geodesic",
 ]

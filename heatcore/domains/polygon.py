@@ -319,6 +319,7 @@ class PolygonMesh(MeshDomain):
                  progress=None, **options):
         settings = MeshSettings.of(settings, **options)
         settings.refuse_untaken(self.mesh_options, self.domain_name)
+        self.mesh_settings = settings
         progress = Progress(progress)
         progress(0.0, "reading the polygons")
         self.vertices = vertex_array(V)

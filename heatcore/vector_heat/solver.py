@@ -152,6 +152,23 @@ class VectorHeatSolver:
         )
         self.timings["vector heat factorization"] = time.perf_counter() - start
 
+    @property
+    def frames(self):
+        """The :class:`~heatcore.vector_heat.frames.VertexFrames` of the domain's intrinsic triangulation."""
+        return self._frames
+
+    @property
+    def operator_basis(self):
+        """:class:`TangentBasis` of every operator vertex (the refined mesh's), in the operators' length unit."""
+        return TangentBasis(*self._basis)
+
+    def diffuse(self, rhs):
+        """The vector heat flow ``(M + t L∇)^-1 rhs``: complex coordinates in the operator vertices' frames.
+
+        ``rhs`` is ``(n,)`` or ``(n, k)`` complex, ``n`` the operator vertices.
+        """
+        return self._vector_factor.solve(rhs)
+
     def tangent_basis(self):
         """Each input vertex's :class:`TangentBasis` ``(normal, e1, e2)``: the frame of 2D coordinates.
 
