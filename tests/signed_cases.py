@@ -117,3 +117,33 @@ def level_curve(V, F, values, angle):
 def mean_error(phi, exact, scale=1.0):
     """Mean absolute error over the vertices, relative to ``scale``."""
     return float(np.mean(np.abs(phi - exact)) / scale)
+
+
+def sphere_cloud(n=3000, n_equator=96):
+    """Points on the unit sphere: a Fibonacci lattice, and ``n_equator`` evenly spaced on the equator (the
+    lattice's points nearer to it than half their spacing removed). Returns the points and the equator's
+    indices eastwards (north on the left), closed."""
+    i = np.arange(n) + 0.5
+    z = 1 - 2 * i / n
+    a = np.pi * (1 + 5**0.5) * i
+    P = np.c_[np.sqrt(1 - z**2) * np.cos(a), np.sqrt(1 - z**2) * np.sin(a), z]
+    spacing = np.sqrt(4 * np.pi / n)
+    P = P[np.abs(P[:, 2]) > 0.5 * spacing]
+    t = np.linspace(0, 2 * np.pi, n_equator, endpoint=False)
+    P = np.r_[P, np.c_[np.cos(t), np.sin(t), np.zeros(n_equator)]]
+    loop = list(range(len(P) - n_equator, len(P)))
+    return P, loop + [loop[0]]
+
+
+def disc_cloud(R=0.55, spacing=0.05):
+    """Points on a flat unit disc in rings ``spacing`` apart, one of them at radius ``R``; and that ring's
+    indices counter-clockwise (inside on the left, seen from +z), closed."""
+    radii = np.r_[np.linspace(0, R, int(round(R / spacing)) + 1)[1:], np.linspace(R, 1, int(round((1 - R) / spacing)) + 1)[1:]]
+    points, loop = [[0.0, 0.0, 0.0]], None
+    for r in radii:
+        k = int(round(2 * np.pi * r / spacing))
+        a = np.linspace(0, 2 * np.pi, k, endpoint=False)
+        if abs(r - R) < 1e-12:
+            loop = list(range(len(points), len(points) + k))
+        points += np.c_[r * np.cos(a), r * np.sin(a), np.zeros(k)].tolist()
+    return np.array(points), loop + [loop[0]]

@@ -119,18 +119,39 @@ def test_level_set_options_and_kept_normals_stay_accurate(disc, disc_solver):
     assert np.isfinite(disc_solver.distance(two, level_set="multiple")).all()
 
 
-def test_vertex_curves_and_polygon_meshes():
-    """The UV sphere as quads (PolygonMesh, measured on its triangulation): the equator within 2%."""
+def _uv_sphere_quads():
+    """The UV sphere of signed_cases as Blender would keep it: quads between the rings, triangles at the poles."""
     V, F = sc.uv_sphere()
-    quads = [[a, b, c, d] for (a, b, c), (_, _, d) in zip(F[: len(F) // 2 - 64][::1], F[len(F) // 2 - 64:][::1])]
-    n_band = (len(F) - 2 * 64) // 2
-    tri1, tri2 = F[:n_band], F[n_band:2 * n_band]
-    quads = np.c_[tri1, tri2[:, 2]]
-    caps = F[2 * n_band:]
-    polygons = [list(q) for q in quads] + [list(t) for t in caps]
-    solver = hc.SignedHeatSolver(hc.PolygonMesh(V, polygons))
-    phi = solver.distance([sc.equator_loop(V)])
-    assert sc.mean_error(phi, np.arcsin(np.clip(V[:, 2], -1, 1))) < 0.02
+    band = (len(F) - 2 * 64) // 2
+    quads = np.c_[F[:band], F[band:2 * band, 2]]  # (a, b, c) and (a, c, d) -> (a, b, c, d)
+    return V, [list(q) for q in quads] + [list(t) for t in F[2 * band:]]
+
+
+def test_polygon_mesh_equator():
+    """A polygon mesh is measured on heatcore's triangulation of its polygons: the equator within 2% (0.07%)."""
+    V, polygons = _uv_sphere_quads()
+    phi = hc.SignedHeatSolver(hc.PolygonMesh(V, polygons)).distance([sc.equator_loop(V)])
+    assert sc.mean_error(phi, np.arcsin(np.clip(V[:, 2], -1, 1))) < 0.002
+    with pytest.raises(InvalidSourceError, match="vertex indices"):
+        hc.SignedHeatSolver(hc.PolygonMesh(V, polygons)).distance([[(0, (1.0, 0.0, 0.0)), 5]])
+
+
+@pytest.mark.parametrize("refine", [0, "auto"])
+def test_point_clouds(refine):
+    """A Fibonacci sphere with points on its equator (0.068%, 0.058%) and a disc of rings (0.079%, 0.027%)."""
+    P, loop = sc.sphere_cloud()
+    exact = np.arcsin(np.clip(P[:, 2], -1, 1))
+    assert sc.mean_error(hc.SignedHeatSolver(hc.PointCloud(P, refine=refine)).distance([loop]), exact) < 0.002
+    inward = hc.SignedHeatSolver(hc.PointCloud(P, normals=-P, refine=refine)).distance([loop])
+    assert sc.mean_error(inward, -exact) < 0.002  # given normals keep their signs: the left is seen along them
+    P, loop = sc.disc_cloud(R)
+    phi = hc.SignedHeatSolver(hc.PointCloud(P, refine=refine)).distance([loop])
+    exact = R - np.linalg.norm(P[:, :2], axis=1)
+    assert sc.mean_error(phi, exact, R) < 0.002
+    off = np.abs(exact) > 0.03
+    assert (np.sign(phi[off]) == np.sign(exact[off])).all()
+    with pytest.raises(InvalidSourceError, match="vertex indices"):
+        hc.SignedHeatSolver(hc.PointCloud(P, refine=refine)).distance([[(0, (1.0, 0.0, 0.0)), 5]])
 
 
 def test_unsigned_sources_are_the_heat_methods_distance(disc_solver, disc):
@@ -154,12 +175,13 @@ def test_bad_input_gives_typed_errors(disc_solver):
         disc_solver.distance([[0, 1]], signed=[True, False])
 
 
-def test_accuracy_high_and_point_clouds_are_refused(disc):
+def test_accuracy_high_and_tet_meshes_are_refused(disc):
     V, F = disc[:2]
     with pytest.raises(InvalidOptionError, match="accuracy"):
         hc.SignedHeatSolver(hc.TriangleMesh(V, F), accuracy="high")
+    tet = hc.TetMesh(np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0]]), [[0, 1, 2, 3]])
     with pytest.raises(UnsupportedDomainError):
-        hc.SignedHeatSolver(hc.PointCloud(V + np.random.default_rng(0).normal(scale=1e-3, size=V.shape)))
+        hc.SignedHeatSolver(tet)
 
 
 pp3d = pytest.importorskip("potpourri3d")
@@ -188,4 +210,31 @@ def test_no_worse_than_potpourri3d_on_a_broken_circle(disc, disc_solver):
     V, F, points, gc_points, exact = disc
     ours = disc_solver.distance(_broken(points))
     theirs = pp3d.MeshSignedHeatSolver(V, F).compute_distance(_broken(gc_points))
+    assert sc.mean_error(ours, exact) <= sc.mean_error(theirs, exact)
+
+
+def test_no_worse_than_potpourri3d_on_a_polygon_mesh():
+    V, polygons = _uv_sphere_quads()
+    loop = sc.equator_loop(V)
+    exact = np.arcsin(np.clip(V[:, 2], -1, 1))
+    ours = hc.SignedHeatSolver(hc.PolygonMesh(V, polygons)).distance([loop])
+    theirs = pp3d.PolygonMeshHeatSolver(V, polygons).compute_signed_distance([loop])
+    assert sc.mean_error(ours, exact) <= sc.mean_error(theirs, exact)
+
+
+def test_no_worse_than_potpourri3d_on_a_disc_cloud():
+    """potpourri3d's point cloud solver puts the left of a curve on the negative side: compared negated."""
+    P, loop = sc.disc_cloud(R)
+    exact = R - np.linalg.norm(P[:, :2], axis=1)
+    ours = hc.SignedHeatSolver(hc.PointCloud(P)).distance([loop])
+    theirs = -pp3d.PointCloudHeatSolver(P).compute_signed_distance([loop], np.tile([0.0, 0.0, 1.0], (len(P), 1)))
+    assert sc.mean_error(ours, exact) <= sc.mean_error(theirs, exact)  # measured 0.027% / 0.069% of R
+
+
+@pytest.mark.xfail(strict=True, reason="measured 0.058% against potpourri3d's 0.035%")
+def test_no_worse_than_potpourri3d_on_a_sphere_cloud():
+    P, loop = sc.sphere_cloud()
+    exact = np.arcsin(np.clip(P[:, 2], -1, 1))
+    ours = hc.SignedHeatSolver(hc.PointCloud(P)).distance([loop])
+    theirs = -pp3d.PointCloudHeatSolver(P).compute_signed_distance([loop], P)
     assert sc.mean_error(ours, exact) <= sc.mean_error(theirs, exact)

@@ -40,6 +40,9 @@ KINDS = {
     "displayed surface": "Blender: the probe's DisplayedSurface with its ray-casting tree; None",
     "probe sources": "Blender: the sources of the probe tool's last click on this mesh; None",
     "coarse preview": "CoarsePreview, the fast coarse answer of a drag on a large mesh (preview.py); None",
+    "oriented normals": "a point cloud's normals with consistent signs (pointcloud/orientation.py); None",
+    "cloud connection": "a point cloud's tangent frames and connection Laplacian (signed_heat/cloud.py); None",
+    "signed vector heat": "factor of M + t L_conn of a point cloud (signed_heat/cloud.py); variant: (m, backend)",
 }
 
 

@@ -28,15 +28,16 @@ Examples
 
 import numpy as np
 
+from ..domains.pointcloud import PointCloud
 from ..domains.polygon import PolygonMesh
 from ..domains.polygon_triangulate import triangulate_polygons
 from ..domains.triangle import TriangleMesh
 from ..errors import InvalidOptionError, InvalidSourceError, UnsupportedDomainError
 from ..settings import SolverSettings
-from ..vector_heat.solver import VectorHeatSolver
-from .curves import away_source, curve_nodes, densified, edge_faces, parse_curve, signed_source
-from .face_field import unit_face_field
+from .curves import away_source, parse_curve, signed_source
+from .fields import CloudField, MeshField
 from .level_sets import LEVEL_SETS, constrained_poisson, constraint_rows
+from .normals import flow_keeping_normals
 
 #: Whose defaults fill the options not given (``heatcore.options``).
 FRONT_END = "api"
@@ -47,10 +48,13 @@ class SignedHeatSolver:
 
     Parameters
     ----------
-    domain : TriangleMesh or PolygonMesh
+    domain : TriangleMesh, PolygonMesh or PointCloud
         A polygon mesh is measured on heatcore's triangulation of its
         polygons (``triangulate_polygons``), refined as the domain was asked
-        to be; curves on it are given by vertices.
+        to be; curves on it, and on a point cloud, are given by vertex (point)
+        indices. A point cloud's normals are oriented first
+        (:meth:`~heatcore.PointCloud.oriented_normals`): given normals keep
+        their signs, and the left of a curve is seen along them.
     settings : SolverSettings or Settings, optional
         As for :class:`~heatcore.HeatSolver`.
     m : float, default 1.0
@@ -65,8 +69,13 @@ class SignedHeatSolver:
 
     Attributes
     ----------
-    vector_solver : VectorHeatSolver
-        The vector heat method on the same domain (its factors are shared).
+    field : MeshField or CloudField
+        Where the vectors live (:mod:`heatcore.signed_heat.fields`): on a
+        mesh, the vector heat method's frames and factor, shared with any
+        :class:`~heatcore.VectorHeatSolver` of the same domain.
+    distance_solver : HeatSolver
+        The heat method on the same domain: its Poisson factor integrates
+        the field; it measures unsigned sources.
     timings : dict
 
     Raises
@@ -92,18 +101,22 @@ class SignedHeatSolver:
                 'the signed heat method has no accuracy="high": its own distance is already 5-35 times closer to '
                 "exact than the eikonal pass from the curve's points (docs/signed.md); use the default"
             )
+        self._vertices_only = isinstance(domain, (PolygonMesh, PointCloud))
         if isinstance(domain, PolygonMesh):
             domain = _triangulated(domain)
-        if not isinstance(domain, TriangleMesh):
+        if isinstance(domain, TriangleMesh):
+            self.field = MeshField(domain, settings)
+        elif isinstance(domain, PointCloud):
+            self.field = CloudField(domain, settings)
+        else:
             raise UnsupportedDomainError(
-                f"the signed heat method runs on triangle and polygon meshes, not on a {domain.domain_name}"
+                f"the signed heat method runs on triangle and polygon meshes and point clouds, not on a "
+                f"{domain.domain_name}"
             )
         self.domain = domain
         self.settings = settings
-        self.vector_solver = VectorHeatSolver(domain, settings)
-        self.distance_solver = self.vector_solver.distance_solver
-        self.timings = dict(self.vector_solver.timings)
-        self._edge_faces = None
+        self.distance_solver = self.field.distance_solver
+        self.timings = dict(self.field.timings)
 
     def distance(self, curves, signed=True, *, points=None, level_set="zero", keep_normals=False):
         """Signed distance from the curves (and unsigned distance from ``points``) at every input vertex.
@@ -145,20 +158,18 @@ class SignedHeatSolver:
             raise InvalidOptionError(f"level_set must be one of {', '.join(LEVEL_SETS)}, got {level_set!r}")
         if not any(is_signed):
             return self._unsigned(parsed)
-        nodes = curve_nodes(self._densified(parsed), lambda v, p: self.vector_solver.sources(v, points=p))
-        ops, hs = self.domain.operators, self.distance_solver
+        field, ops, hs = self.field, self.domain.operators, self.distance_solver
+        nodes = field.nodes(parsed)
         n = ops.n_vertices
-        basis = self.vector_solver.operator_basis
         rhs = np.zeros(n, dtype=complex)
         h = float(np.mean(ops.mean_edge_length))
         for c, s in enumerate(is_signed):
             if s:
-                signed_source(nodes, rhs, c, basis)
+                signed_source(nodes, rhs, c, field.operator_basis)
             else:
-                away_source(nodes, rhs, c, basis, self.domain.subdivision.vertices, ops.laplacian, h)
-        Y = self._flow(rhs, nodes, is_signed) if keep_normals else self.vector_solver.diffuse(rhs)
-        X = unit_face_field(self.domain.intrinsic, self.vector_solver.frames, Y)
-        b = ops.gradient.T @ (ops.volumes[:, None] * X).ravel()
+                away_source(nodes, rhs, c, field.operator_basis, field.positions, ops.laplacian, h)
+        Y = flow_keeping_normals(field, rhs, nodes, is_signed) if keep_normals else field.diffuse(rhs)
+        b = field.divergence(Y)
         C = constraint_rows(nodes.carriers, n)
         groups = np.zeros(nodes.curve.size, dtype=np.int64) if level_set != "multiple" else nodes.curve
         phi = hs.poisson.solve_grounded(b.copy()) if level_set == "none" else constrained_poisson(hs.poisson, b, C, groups)
@@ -170,6 +181,8 @@ class SignedHeatSolver:
         except TypeError:
             raise InvalidSourceError("curves must be a list of curves (each a sequence of surface points)") from None
         parsed = [parse_curve(c, f"curve {i}") for i, c in enumerate(curve_list)]
+        if self._vertices_only and not all(c.kinds.all() for c in parsed):
+            raise InvalidSourceError("on a polygon mesh or a point cloud, a curve is a sequence of vertex indices")
         flags = [bool(signed)] * len(parsed) if np.ndim(signed) == 0 else [bool(s) for s in signed]
         if len(flags) != len(parsed):
             raise InvalidOptionError(f"signed: {len(flags)} flags for {len(parsed)} curves")
@@ -180,15 +193,6 @@ class SignedHeatSolver:
         if not parsed:
             raise InvalidSourceError("no source given: pass at least one curve or one point")
         return parsed, flags
-
-    def _densified(self, parsed):
-        """The curves with a point on each refined vertex along their segments (refined meshes)."""
-        k = 2 ** self.domain.levels
-        if k == 1:
-            return parsed
-        if self._edge_faces is None:
-            self._edge_faces = edge_faces(self.domain.faces)
-        return [densified(c, self.domain.faces, self._edge_faces, k) for c in parsed]
 
     def _shifted(self, phi, C, nodes):
         """``phi`` minus the mean of its values at the curve points of each part; ``inf`` in parts with none."""
@@ -204,11 +208,6 @@ class SignedHeatSolver:
         out[~reached[hs.component]] = np.inf
         return out
 
-    def _flow(self, rhs, nodes, is_signed):
-        from .normals import flow_keeping_normals
-
-        return flow_keeping_normals(self.vector_solver, rhs, nodes, is_signed)
-
     def _unsigned(self, parsed):
         """The heat method's distance to unsigned curves and points only: their vertices, edges and face points.
 
@@ -221,7 +220,7 @@ class SignedHeatSolver:
         edges = np.concatenate([np.column_stack([c.vertices[:-1], c.vertices[1:]])[c.kinds[:-1] & c.kinds[1:]]
                                 for c in parsed])
         kinds = {"points": (faces, bary)} if faces.size else {}
-        if (edges[:, 0] != edges[:, 1]).any():
+        if "edges" in self.domain.source_kinds and (edges[:, 0] != edges[:, 1]).any():
             kinds["edges"] = edges[edges[:, 0] != edges[:, 1]]
         return self.distance_solver.distance(vertices if vertices.size else None, **kinds)
 

@@ -1,6 +1,7 @@
 """The point-cloud domain: :class:`PointCloud` (the construction, and an example, in :mod:`heatcore.domains.pointcloud`)."""
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from ...errors import InvalidMeshError, InvalidOptionError, InvalidSourceError
 from ...progress import Progress
@@ -11,6 +12,7 @@ from ..refine import auto_refine_levels, midpoint_subdivide
 from ..sources import index_list
 from ..validate import vertex_array
 from .local_delaunay import attach_left_out, local_delaunay_triangles
+from .orientation import oriented_normals
 from .neighborhoods import (
     MAX_ATTACH_RATIO,
     MAX_NEIGHBOR_RATIO,
@@ -119,6 +121,7 @@ class PointCloud(Domain):
         near, dist = nearest_neighbors(self.distinct, self.k, ratio=MAX_ATTACH_RATIO)
         nbr = within_ratio(near, dist, MAX_NEIGHBOR_RATIO)  # the neighbors of the normals and local triangles
         progress(0.3, "estimating normals" if normals is None else "reading the normals")
+        self.normals_given = normals is not None
         if normals is None:
             self.normals = pca_normals(self.distinct, nbr)
         else:
@@ -153,11 +156,38 @@ class PointCloud(Domain):
             mid = np.arange(used.size, n)
             ends = sub.edges[sub.vertex_edge[mid]]
             on_rim[mid] = (sub.vertex_edge[mid] >= 0) & on_rim[ends[:, 0]] & on_rim[ends[:, 1]]
+        self.operator_positions = sub.vertices
         cover = tufted_cover(sub.vertices, sub.faces)
         built = intrinsic_operators(sub.vertices, sub.faces, sub.mesh_edges, sub.side_edge, cover=cover, rim=on_rim)
         self.n_flips = built.n_flips
         self.cover = built.intrinsic
         return built.operators
+
+    def oriented_normals(self):
+        """Unit normals at the operator vertices with consistent signs (kept in the domain's cache).
+
+        Normals given to the cloud keep their signs; PCA normals are oriented by
+        :func:`~heatcore.domains.pointcloud.orientation.oriented_normals`. A
+        refined vertex takes the normal of the nearest point.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> theta = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+        >>> P = np.concatenate([np.column_stack([np.cos(theta), np.sin(theta), np.full(40, 0.15 * z)]) for z in range(8)])
+        >>> N = PointCloud(P, k=12, refine=0).oriented_normals()
+        >>> bool((np.einsum("ij,ij->i", N[:, :2], P[:, :2]) > 0.9).all())   # outwards
+        True
+        """
+        return self.derived.get_or_build(("oriented normals", None), self._oriented_normals)
+
+    def _oriented_normals(self):
+        used = np.flatnonzero(self._operator_vertex >= 0)
+        normals = self.normals if self.normals_given else oriented_normals(self.distinct, self.normals, self.k)
+        X = self.operator_positions
+        if X.shape[0] == used.size:
+            return normals[used]
+        return normals[used][cKDTree(X[:used.size]).query(X)[1]]
 
     @property
     def n_input_vertices(self):

@@ -1,0 +1,193 @@
+"""Where the signed heat method's vectors live: per domain, its points, its flow and its divergence.
+
+The solver (:mod:`heatcore.signed_heat.solver`) asks a field for four things:
+the curve points as the operators see them (``nodes``), the operator
+vertices' tangent basis (``operator_basis``), the vector heat flow
+(``diffuse``) and the divergence of the normalized flow (``divergence``).
+
+- :class:`MeshField`: a triangle mesh, through the vector heat method's own
+  frames and factor (:class:`~heatcore.vector_heat.VectorHeatSolver`); the
+  flow is read on the intrinsic triangles (:mod:`~heatcore.signed_heat.face_field`)
+  and the divergence is the heat method's, ``G^T (volumes * X)``.
+- :class:`CloudField`: a point cloud, with tangent planes from its oriented
+  normals, the connection Laplacian of its Laplacian's weights (each edge
+  turning a vector by the least rotation between the two normals), and the
+  divergence of the vertex vectors along the Laplacian's edges,
+  ``-Σ_j w_ij (X_i + X_j)/2 . (p_j - p_i)``: what the Laplacian of a function
+  with gradient ``X`` is.
+
+Examples
+--------
+>>> import numpy as np, heatcore as hc
+>>> field = MeshField(hc.TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0), hc.SolverSettings("api"))
+>>> field.divergence(np.zeros(3, dtype=complex)).tolist()
+[0.0, 0.0, 0.0]
+"""
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import InvalidSourceError
+from ..heat import HeatSolver
+from ..linalg.hermitian import factor_hermitian
+from ..steps.time_step import vertex_time_steps
+from ..vector_heat.solver import TangentBasis, VectorHeatSolver
+from .curves import CurveNodes, curve_nodes, densified, edge_faces
+from .face_field import unit_face_field
+
+
+class MeshField:
+    """The signed heat method's vectors on a :class:`~heatcore.TriangleMesh` (see the module).
+
+    Examples
+    --------
+    >>> import numpy as np, heatcore as hc
+    >>> from heatcore.signed_heat.curves import parse_curve
+    >>> field = MeshField(hc.TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0), hc.SolverSettings("api"))
+    >>> field.nodes([parse_curve([0, 1])]).curve.tolist()
+    [0, 0]
+    """
+
+    def __init__(self, domain, settings):
+        self.domain = domain
+        self.vector_solver = VectorHeatSolver(domain, settings)
+        self.distance_solver = self.vector_solver.distance_solver
+        self.operator_basis = self.vector_solver.operator_basis
+        self.positions = domain.subdivision.vertices
+        self.timings = dict(self.vector_solver.timings)
+        self._edge_faces = None
+
+    def nodes(self, parsed):
+        """:class:`~heatcore.signed_heat.curves.CurveNodes` of the curves, with a point per refined vertex on them."""
+        k = 2 ** self.domain.levels
+        if k > 1:
+            if self._edge_faces is None:
+                self._edge_faces = edge_faces(self.domain.faces)
+            parsed = [densified(c, self.domain.faces, self._edge_faces, k) for c in parsed]
+        return curve_nodes(parsed, lambda v, p: self.vector_solver.sources(v, points=p))
+
+    def diffuse(self, rhs):
+        return self.vector_solver.diffuse(rhs)
+
+    def divergence(self, Y):
+        """``G^T (volumes * X)`` of the unit field ``X`` read from the vertex vectors ``Y`` on the triangles."""
+        ops = self.domain.operators
+        X = unit_face_field(self.domain.intrinsic, self.vector_solver.frames, Y)
+        return ops.gradient.T @ (ops.volumes[:, None] * X).ravel()
+
+
+class CloudField:
+    """The signed heat method's vectors on a :class:`~heatcore.PointCloud` (see the module).
+
+    Curve points are point indices (a cloud has no faces).
+
+    Examples
+    --------
+    >>> import numpy as np, heatcore as hc
+    >>> P = np.column_stack([np.random.default_rng(0).random((300, 2)), np.zeros(300)])
+    >>> field = CloudField(hc.PointCloud(P, refine=0), hc.SolverSettings("api"))
+    >>> bool(np.allclose(field.operator_basis.normal[:, 2], 1.0))
+    True
+    """
+
+    def __init__(self, domain, settings):
+        self.domain = domain
+        self.distance_solver = HeatSolver(domain, settings)
+        self.timings = dict(self.distance_solver.timings)
+        ops, hs = domain.operators, self.distance_solver
+        self.positions = domain.operator_positions
+        frames = domain.derived.get_or_build(("cloud connection", None), lambda: _cloud_connection(domain))
+        self.operator_basis, connection = frames
+        step = vertex_time_steps(hs.part_m, hs.component, ops.mean_edge_length)
+        self._factor = domain.derived.get_or_build(
+            ("signed vector heat", (hs.m, settings.backend)),
+            lambda: factor_hermitian((sp.diags(ops.mass.astype(complex)) + sp.diags(step) @ connection).tocsr(),
+                                     settings.backend),
+        )
+
+    def nodes(self, parsed):
+        """:class:`~heatcore.signed_heat.curves.CurveNodes` of curves of point indices."""
+        carriers, owner = [], []
+        for c, curve in enumerate(parsed):
+            if not curve.kinds.all():
+                raise InvalidSourceError("a curve on a point cloud is a sequence of point indices (it has no faces)")
+            carriers += [(np.array([o]), np.ones(1)) for o in self._operator_points(curve.vertices).tolist()]
+            owner += [c] * curve.n_nodes
+        vertices = np.array([v[0] for v, _ in carriers])
+        return CurveNodes(carriers, self.positions[vertices], self.operator_basis.normal[vertices],
+                          np.array(owner, dtype=np.int64))
+
+    def diffuse(self, rhs):
+        return self._factor.solve(rhs)
+
+    def divergence(self, Y):
+        """``-Σ_j w_ij (X_i + X_j)/2 . (p_j - p_i)`` of the unit vectors ``X`` of ``Y`` (zero where ``Y`` is)."""
+        _, e1, e2 = self.operator_basis
+        size = np.abs(Y)
+        unit = np.where(size > 1e-300, Y / np.maximum(size, 1e-300), 0.0)
+        X = unit.real[:, None] * e1 + unit.imag[:, None] * e2
+        L = sp.coo_matrix(self.domain.operators.laplacian)
+        off = L.row != L.col
+        i, j, w = L.row[off], L.col[off], -L.data[off]
+        along = 0.5 * np.einsum("ij,ij->i", X[i] + X[j], self.positions[j] - self.positions[i])
+        return -np.bincount(i, weights=w * along, minlength=Y.size)
+
+    def _operator_points(self, points):
+        from ..domains.sources import index_list
+
+        points = index_list(points, self.domain.n_input_vertices, "point")
+        op = self.domain.output_vertices[points]
+        if (op < 0).any():
+            raise InvalidSourceError(f"point {int(points[op < 0][0])} is isolated (in no triangle): it cannot be on a curve")
+        return op
+
+
+def tangent_frames(normals):
+    """``(e1, e2)``: unit tangents of each unit normal, ``e2 = normal x e1``, ``e1`` away from the normal's main axis.
+
+    Examples
+    --------
+    >>> e1, e2 = tangent_frames(np.array([[0.0, 0.0, 1.0]]))
+    >>> e1.tolist(), e2.tolist()
+    ([[0.0, 1.0, 0.0]], [[-1.0, 0.0, 0.0]])
+    """
+    least = np.eye(3)[np.argmin(np.abs(normals), axis=1)]
+    e1 = np.cross(normals, least)
+    e1 /= np.linalg.norm(e1, axis=1)[:, None]
+    return e1, np.cross(normals, e1)
+
+
+def cloud_connection_laplacian(L, normals, e1, e2):
+    """The Hermitian connection Laplacian with the weights of ``L`` and the least rotation between normals.
+
+    A vector at ``i`` goes to ``j`` by the rotation that takes ``n_i`` to ``n_j``
+    about their common perpendicular; as coordinates it turns by ``ρ_ij``, the
+    angle of the carried ``e1_i`` in ``j``'s frame (Hermitian as in
+    :func:`heatcore.vector_heat.connection.connection_laplacian`).
+
+    Examples
+    --------
+    >>> L = sp.csr_matrix(np.array([[1.0, -1.0], [-1.0, 1.0]]))
+    >>> n = np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 1.0]])
+    >>> C = cloud_connection_laplacian(L, n, *tangent_frames(n))
+    >>> np.real_if_close(C.toarray()).tolist()
+    [[1.0, -1.0], [-1.0, 1.0]]
+    """
+    L = sp.coo_matrix(L)
+    upper = L.row < L.col
+    i, j, w = L.row[upper], L.col[upper], -L.data[upper]
+    ni, nj, v = normals[i], normals[j], e1[i]
+    c = np.maximum(1.0 + np.einsum("ij,ij->i", ni, nj), 1e-12)  # opposite normals: no least rotation; kept finite
+    carried = v - (np.einsum("ij,ij->i", v, nj) / c)[:, None] * (ni + nj)
+    rotation = np.exp(1j * np.arctan2(np.einsum("ij,ij->i", carried, e2[j]), np.einsum("ij,ij->i", carried, e1[j])))
+    n = L.shape[0]
+    rows = np.concatenate([i, j, j, i])
+    cols = np.concatenate([i, j, i, j])
+    data = np.concatenate([w, w, -w * rotation, -w * rotation.conj()]).astype(np.complex128)
+    return sp.csr_matrix((data, (rows, cols)), shape=(n, n))
+
+
+def _cloud_connection(domain):
+    normals = domain.oriented_normals()
+    e1, e2 = tangent_frames(normals)
+    return TangentBasis(normals, e1, e2), cloud_connection_laplacian(domain.operators.laplacian, normals, e1, e2)
