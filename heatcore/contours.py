@@ -134,6 +134,33 @@ def isoline_levels(values, count):
     return lo + (hi - lo) * np.arange(1, count + 1) / (count + 1)
 
 
+def signed_levels(values, count):
+    """Levels of a signed field: 0, and ``count`` on each side at ``vmax * j / (count + 1)`` (``vmax``: largest ``|value|``).
+
+    Parameters
+    ----------
+    values : (n,) array_like of float
+    count : int, at least 0
+
+    Returns
+    -------
+    (2 count + 1,) float array, increasing; ``[0.0]`` where no value is finite and nonzero.
+
+    Examples
+    --------
+    >>> signed_levels([-1.0, 0.5, 3.0], 2).tolist()
+    [-2.0, -1.0, 0.0, 1.0, 2.0]
+    """
+    if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 0:
+        raise InvalidOptionError(f"the number of isolines must be a non-negative integer, got {count!r}")
+    v = np.abs(np.asarray(values, dtype=float).ravel())
+    v = v[np.isfinite(v)]
+    vmax = float(v.max()) if v.size else 0.0
+    if not vmax > 0:
+        return np.zeros(1)
+    return vmax * np.arange(-count, count + 1) / (count + 1)
+
+
 def isolines(V, F, values, levels):
     """Isoline curves of the linear interpolation of vertex ``values`` over the triangles.
 

@@ -51,12 +51,14 @@ FRONT_END_OPTIONS = {
     "meshlab": (*_SOLVER, *_MESH, "colormap", "isolines"),
     "blender": (*_SOLVER, *_MESH, *_OUTPUT),
     "vector heat": (*_SOLVER, *_MESH),
+    "signed heat": tuple(name for name in (*_SOLVER, *_MESH) if name != "accuracy"),  # its own distance is sharper
     "blender uv map": (*_SOLVER, *_MESH),
 }
 
 #: How each front end is named in messages.
 FRONT_END_NAMES = {"api": "Python API", "cli": "command-line", "batch": "batch", "meshlab": "MeshLab",
-                   "blender": "Blender", "vector heat": "vector heat", "blender uv map": "Blender UV map"}
+                   "blender": "Blender", "vector heat": "vector heat", "signed heat": "signed heat",
+                   "blender uv map": "Blender UV map"}
 
 #: What a solver is built for: many queries (``"reuse"``: "auto" picks the backends that solve fastest
 #: once factored), one (``"one query"``: the backend that factors fastest, see :mod:`heatcore.linalg`), or

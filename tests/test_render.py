@@ -66,8 +66,8 @@ def test_isolines_are_dark_exactly_where_the_field_crosses_a_level():
     half_width = 2.0
     seen, index = np.unique(raster.face.flat[raster.pixels], return_inverse=True)
     rgb = np.ones((300 * 300, 3))
-    rgb[raster.pixels] = render._pixel_colors(Q, F, d, seen, index, raster.barycentric, "viridis", 1.0, levels,
-                                              half_width)
+    paint = lambda v: hc.viz.colorize(v, "viridis", vmax=1.0)  # noqa: E731
+    rgb[raster.pixels] = render._pixel_colors(Q, F, d, seen, index, raster.barycentric, paint, levels, half_width)
     rgb = rgb.reshape(300, 300, 3)
     x = np.arange(300) + 0.5
     gap = np.abs(x[:, None] / scale - levels[None, :]).min(axis=1) * scale  # pixels to the nearest level

@@ -116,7 +116,7 @@ def settings_of(args, front_end="cli", intent="reuse"):
     return Settings.of(front_end, intent=intent, **given)
 
 
-def add_output_options(parser, png_help=None, view_default=None):
+def add_output_options(parser, png_help=None, view_default=None, colormap=True):
     """Add ``--colormap``, ``--isolines``, ``--view`` and (given ``png_help``) ``--png``.
 
     Parameters
@@ -127,6 +127,8 @@ def add_output_options(parser, png_help=None, view_default=None):
     view_default : str, optional
         What the picture's camera is without ``--view`` (for the help text); ``--view`` is added
         when there is a picture: with ``png_help`` or ``view_default``.
+    colormap : bool, default True
+        Offer ``--colormap`` (False: the command has colors of its own, as ``heatcore signed``).
 
     Examples
     --------
@@ -137,7 +139,8 @@ def add_output_options(parser, png_help=None, view_default=None):
     ('magma', None, 'd.png', {'azimuth': -40.0, 'elevation': 20.0})
     """
     group = parser.add_argument_group("picture and colors")
-    options.add_argument(group, "colormap")
+    if colormap:
+        options.add_argument(group, "colormap")
     options.add_argument(group, "isolines")
     if png_help:
         group.add_argument("--png", type=Path, default=None, metavar="PATH", help=png_help)

@@ -73,6 +73,7 @@ from .reporting import (
     show_warning,
     timed_stage,
 )
+from .signed_command import SIGNED_DESCRIPTION, SIGNED_HELP, run_signed, signed_arguments
 from .trace_command import TRACE_DESCRIPTION, TRACE_HELP, run_trace, trace_arguments
 
 log = logging.getLogger("heatcore.apps.cli")
@@ -326,6 +327,7 @@ command("logmap", arguments=logmap_arguments,
         "(index,u,v); unreachable vertices get inf.")(run_logmap)
 command("path", arguments=path_arguments, help=PATH_HELP, description=PATH_DESCRIPTION)(run_path)
 command("trace", arguments=trace_arguments, help=TRACE_HELP, description=TRACE_DESCRIPTION)(run_trace)
+command("signed", arguments=signed_arguments, help=SIGNED_HELP, description=SIGNED_DESCRIPTION)(run_signed)
 
 
 # --------------------------------------------------------------------------- batch

@@ -295,7 +295,7 @@ def write_output(path, V, F, d, sources, colormap, isolines):
             np.savetxt(tmp, table, fmt=["%d", "%.17g"], delimiter=",", header="index,distance", comments="")
 
 
-def render_png(path, V, F, d, sources, colormap, isolines, title=None, view=None):
+def render_png(path, V, F, d, sources, colormap, isolines, title=None, view=None, signed=False):
     """Draw the distance field into a PNG file, atomically (:func:`heatcore.viz.render.render_distance`).
 
     Parameters
@@ -316,6 +316,8 @@ def render_png(path, V, F, d, sources, colormap, isolines, title=None, view=None
     view : dict, optional
         Camera keywords of :func:`~heatcore.viz.render.render_distance`
         (``elevation``, ``azimuth``, ``up``).
+    signed : bool, default False
+        A signed field: the diverging colors and the zero set (``colormap`` unused).
 
     Examples
     --------
@@ -334,7 +336,7 @@ def render_png(path, V, F, d, sources, colormap, isolines, title=None, view=None
     with atomic_output(path) as tmp:
         render_distance(
             tmp, V, F, d, sources=sources, colormap=colormap,
-            isolines=PNG_ISOLINES if isolines is None else isolines, title=title, **(view or {}),
+            isolines=PNG_ISOLINES if isolines is None else isolines, title=title, signed=signed, **(view or {}),
         )
 
 

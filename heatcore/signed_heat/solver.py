@@ -39,8 +39,8 @@ from .fields import CloudField, MeshField
 from .level_sets import LEVEL_SETS, constrained_poisson, constraint_rows
 from .normals import flow_keeping_normals
 
-#: Whose defaults fill the options not given (``heatcore.options``).
-FRONT_END = "api"
+#: Whose defaults fill the options not given, and which it offers (``heatcore.settings``: no ``accuracy``).
+FRONT_END = "signed heat"
 
 
 class SignedHeatSolver:

@@ -196,6 +196,12 @@ COLORMAPS = {
 }
 # fmt: on
 
+#: The diverging map of signed distances: blue (negative) through light gray (0) to red (positive), between
+#: the end colors of Moreland's "cool to warm" map ("Diverging Color Maps for Scientific Visualization", 2009),
+#: interpolated in RGB through a neutral middle.
+DIVERGING = np.array([(0.230, 0.299, 0.754), (0.552, 0.690, 0.996), (0.866, 0.866, 0.866),
+                      (0.956, 0.604, 0.482), (0.706, 0.016, 0.150)])
+
 #: Color of vertices no source reaches (distance ``inf``).
 UNREACHABLE_COLOR = (0.5, 0.5, 0.5)
 
@@ -242,6 +248,48 @@ def colorize(distance, colormap="viridis", isolines=0, vmax=None, stripe_width=0
         phase = (x * (isolines + 1)) % 1.0
         near = np.minimum(phase, 1.0 - phase) < 0.5 * stripe_width
         rgb[near & (x > 0)] *= 0.25
+    rgb[~finite] = UNREACHABLE_COLOR
+    return rgb
+
+
+def colorize_signed(values, isolines=0, vmax=None, stripe_width=0.08):
+    """Map signed distances to RGB colors in [0, 1] (:data:`DIVERGING`: 0 is the neutral middle), with stripes.
+
+    Parameters
+    ----------
+    values : (n,) float array
+        Signed distances; non-finite entries get :data:`UNREACHABLE_COLOR`.
+    isolines : int
+        Dark stripes on each side: at ``vmax * j / (isolines + 1)``, ``j = -isolines..isolines``
+        (:func:`heatcore.contours.signed_levels`: the zero set among them).
+    vmax : float, optional
+        The magnitude mapped to either end (default: the largest finite ``|value|``).
+    stripe_width : float
+        Stripe width as a fraction of the level spacing.
+
+    Returns
+    -------
+    (n, 3) float array
+
+    Examples
+    --------
+    >>> colorize_signed(np.array([-1.0, 0.0, 1.0, np.nan])).round(3).tolist()
+    [[0.23, 0.299, 0.754], [0.866, 0.866, 0.866], [0.706, 0.016, 0.15], [0.5, 0.5, 0.5]]
+    """
+    isolines = check("isolines", isolines)
+    v = np.asarray(values, dtype=float)
+    finite = np.isfinite(v)
+    if vmax is None:
+        vmax = float(np.abs(v[finite]).max()) if finite.any() else 1.0
+    vmax = vmax if vmax > 0 else 1.0
+    x = np.clip(0.5 + 0.5 * np.where(finite, v, 0.0) / vmax, 0.0, 1.0)
+    pos = x * (len(DIVERGING) - 1)
+    lo = np.minimum(pos.astype(int), len(DIVERGING) - 2)
+    frac = (pos - lo)[:, None]
+    rgb = (1 - frac) * DIVERGING[lo] + frac * DIVERGING[lo + 1]
+    if isolines:
+        phase = (np.abs(np.where(finite, v, 0.0)) / vmax * (isolines + 1)) % 1.0
+        rgb[np.minimum(phase, 1.0 - phase) < 0.5 * stripe_width] *= 0.25
     rgb[~finite] = UNREACHABLE_COLOR
     return rgb
 

@@ -30,9 +30,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..contours import isoline_levels
+from ..contours import isoline_levels, signed_levels
 from ..errors import InvalidMeshError, InvalidOptionError
-from .colormap import COLORMAPS, UNREACHABLE_COLOR, colorize
+from .colormap import COLORMAPS, UNREACHABLE_COLOR, colorize, colorize_signed
 from .raster import rasterize
 
 #: Light direction in camera coordinates (x right, y up, z towards the viewer).
@@ -132,6 +132,7 @@ def render_distance(
     title=None,
     size=(8.0, 6.0),
     dpi=150,
+    signed=False,
 ):
     """Write a PNG of a triangle mesh colored by distance, with isolines.
 
@@ -157,6 +158,10 @@ def render_distance(
     size : (float, float)
         Figure size in inches.
     dpi : int
+    signed : bool, default False
+        A signed field: the diverging map (:func:`~heatcore.viz.colormap.colorize_signed`, ``colormap``
+        unused) from ``-vmax`` to ``vmax``, and lines at 0 and ``isolines`` levels on each side
+        (:func:`heatcore.contours.signed_levels`).
 
     Examples
     --------
@@ -187,9 +192,10 @@ def render_distance(
     if len(d) != len(V):
         raise InvalidOptionError(f"one distance per vertex: {len(d)} distances for {len(V)} vertices")
     finite = np.isfinite(d)
-    vmax = float(d[finite].max()) if finite.any() else 1.0
+    vmax = float((np.abs(d) if signed else d)[finite].max()) if finite.any() else 1.0
     vmax = vmax if vmax > 0 else 1.0
-    levels = isoline_levels(d, isolines)
+    levels = signed_levels(d, isolines) if signed else isoline_levels(d, isolines)
+    paint = (lambda v: colorize_signed(v, vmax=vmax)) if signed else (lambda v: colorize(v, colormap, vmax=vmax))
 
     R = camera_rotation(elevation, azimuth, up)
     P = (V - V.mean(axis=0)) @ R.T  # camera coordinates; z towards the viewer
@@ -201,7 +207,7 @@ def render_distance(
     raster = rasterize(Q, F, box.width, box.height, cull_back=_closed_outward(P, F))
     face = raster.face.flat[raster.pixels]
     seen, index = np.unique(face, return_inverse=True)  # the faces in the picture, and each pixel's
-    color = _pixel_colors(Q, F, d, seen, index, raster.barycentric, colormap, vmax, levels,
+    color = _pixel_colors(Q, F, d, seen, index, raster.barycentric, paint, levels,
                           0.5 * LINE_WIDTH_PT / 72 * dpi * SUPERSAMPLE)
     color *= _shading(P, F, seen, index, raster.barycentric)[:, None]
     image = np.ones((raster.face.size, 3), dtype=np.float32)
@@ -219,9 +225,14 @@ def render_distance(
     ax.axis("off")
 
     cax = fig.add_axes([0.84, 0.2, 0.025, 0.6])
-    cmap = ListedColormap(colorize(np.linspace(0, 1, 256), colormap, vmax=1.0))
-    bar = fig.colorbar(ScalarMappable(Normalize(0, vmax), cmap), cax=cax)
-    bar.set_label("geodesic distance")
+    if signed:
+        cmap = ListedColormap(colorize_signed(np.linspace(-1, 1, 256), vmax=1.0))
+        bar = fig.colorbar(ScalarMappable(Normalize(-vmax, vmax), cmap), cax=cax)
+        bar.set_label("signed geodesic distance")
+    else:
+        cmap = ListedColormap(colorize(np.linspace(0, 1, 256), colormap, vmax=1.0))
+        bar = fig.colorbar(ScalarMappable(Normalize(0, vmax), cmap), cax=cax)
+        bar.set_label("geodesic distance")
     for level in levels:
         bar.ax.axhline(level, color="0.08", linewidth=0.8)
     if not finite.all():
@@ -261,9 +272,9 @@ def _shading(P, F, seen, index, barycentric):
     return AMBIENT + (1 - AMBIENT) * np.clip(lit, 0, 1)
 
 
-def _pixel_colors(Q, F, d, seen, index, barycentric, colormap, vmax, levels, half_width):
-    """Per covered pixel, its color: the distance interpolated in its face ``seen[index]``, and isolines
-    ``half_width`` pixels either side of each level.
+def _pixel_colors(Q, F, d, seen, index, barycentric, paint, levels, half_width):
+    """Per covered pixel, its color: the distance interpolated in its face ``seen[index]`` (colored by
+    ``paint``), and isolines ``half_width`` pixels either side of each level.
 
     The distance is linear in each face, so in the image it is linear in each face's projection:
     its gradient there gives every pixel's distance to a level curve in pixels, and the curves are
@@ -274,7 +285,7 @@ def _pixel_colors(Q, F, d, seen, index, barycentric, colormap, vmax, levels, hal
     dc[~reached] = 0.0
     value = np.einsum("ij,ij->i", barycentric, dc[index])
     value[~reached[index]] = np.inf
-    color = colorize(value, colormap, vmax=vmax)
+    color = paint(value)
     if levels.size:
         slope = _image_slope(Q, F[seen], dc)[index]  # distance per pixel
         above = np.searchsorted(levels, value)  # the levels either side: above - 1 and above
