@@ -1,0 +1,52 @@
+"""The MeshLab signed filter: signed distance to the boundary of the selected faces, inside positive."""
+
+import numpy as np
+import pytest
+import signed_cases as sc
+
+import heatcore as hc
+from heatcore.errors import InvalidOptionError, InvalidSourceError
+
+pymeshlab = pytest.importorskip("pymeshlab")
+from heatcore.apps.meshlab_signed import signed_distance_from_selection  # noqa: E402
+
+
+def _meshset(V, F):
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(V, np.asarray(F, dtype=np.int32)))
+    return ms
+
+
+def test_disc_selection_inside_positive():
+    V, F = sc.disc()
+    centre = np.linalg.norm(V[F].mean(axis=1)[:, :2], axis=1)
+    ms = _meshset(V, F)
+    ms.compute_selection_by_condition_per_face(condselect="((x0+x1+x2)/3)^2 + ((y0+y1+y2)/3)^2 < 0.3025")
+    stats = signed_distance_from_selection(ms, refine=0, isolines=3)
+    mesh = ms.current_mesh()
+    assert stats["curves"] == 1 and stats["faces_selected"] == int((centre < 0.55).sum())
+    (loop,) = hc.region_boundary_curves(F, np.flatnonzero(mesh.face_selection_array()))
+    expected = hc.SignedHeatSolver(hc.TriangleMesh(V, F, refine=0)).distance([[int(v) for v in loop]])
+    np.testing.assert_allclose(stats["distance"], expected, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(mesh.vertex_scalar_array(), expected, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(mesh.vertex_custom_scalar_attribute_array("heat_signed_distance"), expected,
+                               rtol=1e-9, atol=1e-12)
+    r = np.linalg.norm(V[:, :2], axis=1)
+    assert (expected[r < 0.4] > 0).all() and (expected[r > 0.7] < 0).all()  # inside the selection positive
+    assert np.abs(expected - (0.55 - r)).mean() < 0.02  # a jagged loop of edges about the circle r = 0.55
+    colors = mesh.vertex_color_matrix()
+    inside, outside = np.argmin(r), np.argmax(r)
+    assert colors[inside, 0] > colors[inside, 2] and colors[outside, 2] > colors[outside, 0]
+
+
+def test_no_selection_or_no_boundary_is_an_error_and_leaves_the_mesh():
+    V, F = hc.io.load_demo_mesh()
+    ms = _meshset(V, F)
+    with pytest.raises(InvalidSourceError, match="no face is selected"):
+        signed_distance_from_selection(ms, refine=0)
+    ms.set_selection_all()
+    with pytest.raises(InvalidSourceError, match="no boundary"):
+        signed_distance_from_selection(ms, refine=0)
+    with pytest.raises(InvalidOptionError, match="attribute"):
+        signed_distance_from_selection(ms, attribute="not a name")
+    assert np.allclose(ms.current_mesh().vertex_scalar_array(), 0.0)
