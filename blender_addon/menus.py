@@ -19,6 +19,7 @@ from .isoline_operator import MESH_OT_heat_geodesic_isoline_curves
 from .operator import MESH_OT_heat_geodesic_distance
 from .path_operator import MESH_OT_heat_geodesic_path
 from .probe_tool import MESH_OT_heat_geodesic_probe
+from .signed_operator import MESH_OT_heat_signed_distance
 from .uv_operator import MESH_OT_heat_geodesic_uv_map
 
 OPERATOR = MESH_OT_heat_geodesic_distance.bl_idname
@@ -37,6 +38,9 @@ PATH_MENUS = ("VIEW3D_MT_edit_mesh_context_menu", "VIEW3D_MT_edit_mesh_vertices"
 #: (:data:`UV_ENTRIES`).
 UV_OPERATOR = MESH_OT_heat_geodesic_uv_map.bl_idname
 UV_ICON = "UV"
+#: *Signed Distance from Edges*, at the end of the Edit Mode *Edge* menu and the context menu (:data:`SIGNED_ENTRIES`).
+SIGNED_OPERATOR = MESH_OT_heat_signed_distance.bl_idname
+SIGNED_ICON = "MOD_MASK"
 #: Marker attribute of our draw functions (finds entries left by an earlier copy of the module).
 MARK = "_heat_geodesic_entry"
 
@@ -103,6 +107,23 @@ def _uv_entry(menu):
 UV_ENTRIES = (("VIEW3D_MT_uv_map", _uv_entry("VIEW3D_MT_uv_map")),)
 
 
+def _signed_entry(menu):
+    """A draw function adding *Signed Distance from Edges* (invoked: the panel's options) to ``menu``."""
+
+    def draw(self, context):
+        self.layout.separator()
+        self.layout.operator_context = "INVOKE_REGION_WIN"
+        self.layout.operator(SIGNED_OPERATOR, text="Signed Distance from Edges", icon=SIGNED_ICON)
+
+    draw.__name__ = draw.__qualname__ = f"draw_heat_signed_{menu}"
+    setattr(draw, MARK, menu)
+    return draw
+
+
+#: Menus with *Signed Distance from Edges*: the Edit Mode *Edge* menu (Ctrl E).
+SIGNED_ENTRIES = (("VIEW3D_MT_edit_mesh_edges", _signed_entry("VIEW3D_MT_edit_mesh_edges")),)
+
+
 def ours(menu):
     """The draw functions of this add-on in ``bpy.types.<menu>`` (none when unregistered).
 
@@ -124,7 +145,7 @@ def register():
     >>> len(ours("VIEW3D_MT_object"))  # doctest: +SKIP
     1
     """
-    for menu, draw in ENTRIES + UV_ENTRIES:
+    for menu, draw in ENTRIES + UV_ENTRIES + SIGNED_ENTRIES:
         cls = getattr(bpy.types, menu)
         for old in ours(menu):
             cls.remove(old)
@@ -140,7 +161,7 @@ def unregister():
     >>> ours("VIEW3D_MT_object")  # doctest: +SKIP
     []
     """
-    for menu, _ in reversed(ENTRIES + UV_ENTRIES):
+    for menu, _ in reversed(ENTRIES + UV_ENTRIES + SIGNED_ENTRIES):
         cls = getattr(bpy.types, menu)
         for old in ours(menu):
             cls.remove(old)
