@@ -6,8 +6,9 @@ sphere (vertices) and of an icosphere (edge points), whole and broken; the UV sp
 mesh); a Fibonacci sphere cloud with points on its equator and a disc cloud of rings. Errors: mean
 absolute error over the vertices relative to the radius (0.55 or 1), and the share of vertices farther than
 one gap from the curve whose sign is right. potpourri3d (1.4): ``MeshSignedHeatSolver`` (its edge points for
-the curves through edges), ``PolygonMeshHeatSolver.compute_signed_distance``, and
-``PointCloudHeatSolver.compute_signed_distance`` (its sign is the other way: compared negated).
+the curves through edges), ``PolygonMeshHeatSolver.compute_signed_distance`` and
+``PointCloudHeatSolver.compute_signed_distance`` (these two put a curve's left on the negative side:
+compared negated).
 
 Usage::
 
@@ -65,7 +66,7 @@ def cases():
     polygons = [list(q) for q in np.c_[F[:band], F[band:2 * band, 2]]] + [list(t) for t in F[2 * band:]]
     yield ("UV sphere as quads (PolygonMesh), equator", V,
            lambda: hc.SignedHeatSolver(hc.PolygonMesh(V, polygons)).distance([loop]),
-           lambda: pp3d.PolygonMeshHeatSolver(V, polygons).compute_signed_distance([loop]), exact, 1.0, 0.0)
+           lambda: -pp3d.PolygonMeshHeatSolver(V, polygons).compute_signed_distance([loop]), exact, 1.0, 0.0)
     V, F = sc.icosphere(4)
     points, gc = sc.level_curve(V, F, V[:, 2] + 1e-7, lambda X: np.arctan2(X[:, 1], X[:, 0]))
     exact = np.arcsin(np.clip(V[:, 2], -1, 1))

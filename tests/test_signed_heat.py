@@ -214,12 +214,13 @@ def test_no_worse_than_potpourri3d_on_a_broken_circle(disc, disc_solver):
 
 
 def test_no_worse_than_potpourri3d_on_a_polygon_mesh():
+    """potpourri3d's polygon solver puts the left of a curve on the negative side: compared negated."""
     V, polygons = _uv_sphere_quads()
     loop = sc.equator_loop(V)
     exact = np.arcsin(np.clip(V[:, 2], -1, 1))
     ours = hc.SignedHeatSolver(hc.PolygonMesh(V, polygons)).distance([loop])
-    theirs = pp3d.PolygonMeshHeatSolver(V, polygons).compute_signed_distance([loop])
-    assert sc.mean_error(ours, exact) <= sc.mean_error(theirs, exact)
+    theirs = -pp3d.PolygonMeshHeatSolver(V, polygons).compute_signed_distance([loop])
+    assert sc.mean_error(ours, exact) <= sc.mean_error(theirs, exact)  # measured 0.071% / 0.081%
 
 
 def test_no_worse_than_potpourri3d_on_a_disc_cloud():

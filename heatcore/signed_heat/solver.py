@@ -61,7 +61,7 @@ class SignedHeatSolver:
         Time factor, ``t = m h^2`` for the vector and the scalar flows.
     accuracy : {"smooth"}
         "high" is refused: the eikonal pass's distance to a curve's points
-        was 5-35 times further from the analytic distance than the signed
+        was 5-38 times further from the analytic distance than the signed
         heat method's own (a circle on a disc, the equator of two spheres;
         docs/signed.md), so it would not sharpen anything.
     boundary, backend
@@ -98,7 +98,7 @@ class SignedHeatSolver:
         settings = SolverSettings(FRONT_END, **options) if settings is None else SolverSettings.of(settings, **options)
         if settings.accuracy == "high":
             raise InvalidOptionError(
-                'the signed heat method has no accuracy="high": its own distance is already 5-35 times closer to '
+                'the signed heat method has no accuracy="high": its own distance is already 5-38 times closer to '
                 "exact than the eikonal pass from the curve's points (docs/signed.md); use the default"
             )
         self._vertices_only = isinstance(domain, (PolygonMesh, PointCloud))
