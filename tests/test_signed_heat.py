@@ -173,6 +173,15 @@ def test_bad_input_gives_typed_errors(disc_solver):
         disc_solver.distance([[0, 1]], level_set="two")
     with pytest.raises(InvalidOptionError, match="flags"):
         disc_solver.distance([[0, 1]], signed=[True, False])
+    with pytest.raises(InvalidSourceError, match="no length"):
+        disc_solver.distance([[5, 5]])
+
+
+def test_a_chord_across_the_mesh_is_warned_about(disc_solver, disc):
+    V = disc[0]
+    far = int(np.argmax(np.linalg.norm(V - V[0], axis=1)))
+    with pytest.warns(hc.HeatcoreWarning, match="straight chord"):
+        disc_solver.distance([[0, far]])
 
 
 def test_accuracy_high_and_tet_meshes_are_refused(disc):
