@@ -89,39 +89,26 @@ ENTRIES = (
 
 
 
-def _uv_entry(menu):
-    """A draw function adding the *Geodesic UV Map* (invoked: the panel's options, the view's up) to ``menu``."""
+def _single_entry(menu, operator, text, icon, kind):
+    """A draw function adding one operator's entry (invoked: the panel's options) to ``menu``."""
 
     def draw(self, context):
         self.layout.separator()
         self.layout.operator_context = "INVOKE_REGION_WIN"
-        self.layout.operator(UV_OPERATOR, text="Geodesic UV Map", icon=UV_ICON)
+        self.layout.operator(operator, text=text, icon=icon)
 
-    draw.__name__ = draw.__qualname__ = f"draw_heat_geodesic_uv_{menu}"
+    draw.__name__ = draw.__qualname__ = f"draw_heat_{kind}_{menu}"
     setattr(draw, MARK, menu)
     return draw
 
 
-#: Menus that hold only the *Geodesic UV Map*: the Edit Mode *UV* menu (U), beside Smart UV Project and
-#: Project from View.
-UV_ENTRIES = (("VIEW3D_MT_uv_map", _uv_entry("VIEW3D_MT_uv_map")),)
-
-
-def _signed_entry(menu):
-    """A draw function adding *Signed Distance from Edges* (invoked: the panel's options) to ``menu``."""
-
-    def draw(self, context):
-        self.layout.separator()
-        self.layout.operator_context = "INVOKE_REGION_WIN"
-        self.layout.operator(SIGNED_OPERATOR, text="Signed Distance from Edges", icon=SIGNED_ICON)
-
-    draw.__name__ = draw.__qualname__ = f"draw_heat_signed_{menu}"
-    setattr(draw, MARK, menu)
-    return draw
-
-
+#: Menus that hold only the *Geodesic UV Map* (invoked: the panel's options, the view's up): the Edit Mode
+#: *UV* menu (U), beside Smart UV Project and Project from View.
+UV_ENTRIES = (("VIEW3D_MT_uv_map", _single_entry("VIEW3D_MT_uv_map", UV_OPERATOR, "Geodesic UV Map", UV_ICON,
+                                                 "geodesic_uv")),)
 #: Menus with *Signed Distance from Edges*: the Edit Mode *Edge* menu (Ctrl E).
-SIGNED_ENTRIES = (("VIEW3D_MT_edit_mesh_edges", _signed_entry("VIEW3D_MT_edit_mesh_edges")),)
+SIGNED_ENTRIES = (("VIEW3D_MT_edit_mesh_edges", _single_entry("VIEW3D_MT_edit_mesh_edges", SIGNED_OPERATOR,
+                                                              "Signed Distance from Edges", SIGNED_ICON, "signed")),)
 
 
 def ours(menu):

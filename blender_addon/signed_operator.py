@@ -15,13 +15,24 @@ Examples
 """
 
 import bpy
-from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
+from bpy.props import (
+    BoolProperty,
+    EnumProperty,
+    FloatProperty,
+    IntProperty,
+    StringProperty,
+)
 
 from ._heatcore import heatcore
 from .adapters import AddonError
 from .operator import options_from_panel, poll_editable_mesh
 from .properties import SHAPE_ITEMS, SPACE_ITEMS, option_property, option_value
-from .signed import DEFAULT_SIGNED_ATTRIBUTE, DEFAULT_SIGNED_COLOR, SIGNED_OPTIONS, signed_distance_from_edges
+from .signed import (
+    DEFAULT_SIGNED_ATTRIBUTE,
+    DEFAULT_SIGNED_COLOR,
+    SIGNED_OPTIONS,
+    signed_distance_from_edges,
+)
 
 #: Options taken from the panel when the operator is invoked from the interface.
 FROM_PANEL = ("space", "shape", *SIGNED_OPTIONS)

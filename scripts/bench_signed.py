@@ -23,22 +23,12 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-import potpourri3d as pp3d  # noqa: E402
-import signed_cases as sc  # noqa: E402
+import potpourri3d as pp3d
+import signed_cases as sc
 
-import heatcore as hc  # noqa: E402
+import heatcore as hc
 
 R = 0.55
-
-
-def _closed(points):
-    return list(points) + [points[0]]
-
-
-def _broken(points, pieces=4, gap=0.1):
-    n = len(points)
-    return [[points[i % n] for i in range(int(k * n / pieces), int((k + 1 - gap) * n / pieces) + 1)]
-            for k in range(pieces)]
 
 
 def _timed(f):
@@ -54,9 +44,9 @@ def cases():
     points, gc = sc.level_curve(V, F, r - R, lambda X: np.arctan2(X[:, 1], X[:, 0]))
     exact = R - r
     yield ("disc, circle through edge points", V, lambda: hc.SignedHeatSolver(hc.TriangleMesh(V, F)).distance(
-        [_closed(points)]), lambda: pp3d.MeshSignedHeatSolver(V, F).compute_distance([_closed(gc)]), exact, R, 0.0)
+        [sc.closed(points)]), lambda: pp3d.MeshSignedHeatSolver(V, F).compute_distance([sc.closed(gc)]), exact, R, 0.0)
     yield ("disc, the circle broken in 4 (10% gaps)", V, lambda: hc.SignedHeatSolver(hc.TriangleMesh(V, F)).distance(
-        _broken(points)), lambda: pp3d.MeshSignedHeatSolver(V, F).compute_distance(_broken(gc)), exact, R,
+        sc.broken(points)), lambda: pp3d.MeshSignedHeatSolver(V, F).compute_distance(sc.broken(gc)), exact, R,
         0.1 * 2 * np.pi * R / 4)
     V, F = sc.uv_sphere()
     loop, exact = sc.equator_loop(V), np.arcsin(np.clip(V[:, 2], -1, 1))
@@ -71,9 +61,9 @@ def cases():
     points, gc = sc.level_curve(V, F, V[:, 2] + 1e-7, lambda X: np.arctan2(X[:, 1], X[:, 0]))
     exact = np.arcsin(np.clip(V[:, 2], -1, 1))
     yield ("icosphere, equator through edge points", V, lambda: hc.SignedHeatSolver(hc.TriangleMesh(V, F)).distance(
-        [_closed(points)]), lambda: pp3d.MeshSignedHeatSolver(V, F).compute_distance([_closed(gc)]), exact, 1.0, 0.0)
+        [sc.closed(points)]), lambda: pp3d.MeshSignedHeatSolver(V, F).compute_distance([sc.closed(gc)]), exact, 1.0, 0.0)
     yield ("icosphere, the equator broken in 4", V, lambda: hc.SignedHeatSolver(hc.TriangleMesh(V, F)).distance(
-        _broken(points)), lambda: pp3d.MeshSignedHeatSolver(V, F).compute_distance(_broken(gc)), exact, 1.0,
+        sc.broken(points)), lambda: pp3d.MeshSignedHeatSolver(V, F).compute_distance(sc.broken(gc)), exact, 1.0,
         0.1 * 2 * np.pi / 4)
     P, loop = sc.sphere_cloud()
     exact = np.arcsin(np.clip(P[:, 2], -1, 1))

@@ -45,7 +45,7 @@ def select_square(obj, faces=None):
     bpy.ops.mesh.select_mode(type="EDGE")
     bpy.ops.mesh.select_all(action="DESELECT")
     bm = bmesh.from_edit_mesh(obj.data)
-    on = lambda v: max(abs(v.co.x), abs(v.co.y)) == pytest.approx(HALF)  # noqa: E731
+    on = lambda v: max(abs(v.co.x), abs(v.co.y)) == pytest.approx(HALF)
     for e in bm.edges:
         a, b = e.verts
         if on(a) and on(b) and (a.co.x == pytest.approx(b.co.x) or a.co.y == pytest.approx(b.co.y)):

@@ -8,7 +8,7 @@ import heatcore as hc
 from heatcore.errors import InvalidOptionError, InvalidSourceError
 
 pymeshlab = pytest.importorskip("pymeshlab")
-from heatcore.apps.meshlab_signed import signed_distance_from_selection  # noqa: E402
+from heatcore.apps.meshlab_signed import signed_distance_from_selection
 
 
 def _meshset(V, F):

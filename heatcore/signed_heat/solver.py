@@ -34,7 +34,12 @@ from ..domains.pointcloud import PointCloud
 from ..domains.polygon import PolygonMesh
 from ..domains.polygon_triangulate import triangulate_polygons
 from ..domains.triangle import TriangleMesh
-from ..errors import HeatcoreWarning, InvalidOptionError, InvalidSourceError, UnsupportedDomainError
+from ..errors import (
+    HeatcoreWarning,
+    InvalidOptionError,
+    InvalidSourceError,
+    UnsupportedDomainError,
+)
 from ..settings import SolverSettings
 from .curves import away_source, parse_curve, signed_source
 from .fields import CloudField, MeshField

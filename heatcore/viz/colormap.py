@@ -239,11 +239,7 @@ def colorize(distance, colormap="viridis", isolines=0, vmax=None, stripe_width=0
         vmax = float(d[finite].max()) if finite.any() else 1.0
     vmax = vmax if vmax > 0 else 1.0
     x = np.clip(np.where(finite, d, 0.0) / vmax, 0.0, 1.0)
-    table = COLORMAPS[colormap]
-    pos = x * (len(table) - 1)
-    lo = np.minimum(pos.astype(int), len(table) - 2)
-    frac = (pos - lo)[:, None]
-    rgb = (1 - frac) * table[lo] + frac * table[lo + 1]
+    rgb = _sample(COLORMAPS[colormap], x)
     if isolines:
         phase = (x * (isolines + 1)) % 1.0
         near = np.minimum(phase, 1.0 - phase) < 0.5 * stripe_width
@@ -288,17 +284,21 @@ def colorize_signed(values, isolines=0, vmin=None, vmax=None, stripe_width=0.08)
     top = float(w.max(initial=0.0)) if vmax is None else float(vmax)
     bottom = float(-w.min(initial=0.0)) if vmin is None else float(-vmin)
     scale = np.where(w >= 0, top if top > 0 else 1.0, bottom if bottom > 0 else 1.0)
-    x = np.clip(0.5 + 0.5 * w / scale, 0.0, 1.0)
-    pos = x * (len(DIVERGING) - 1)
-    lo = np.minimum(pos.astype(int), len(DIVERGING) - 2)
-    frac = (pos - lo)[:, None]
-    rgb = (1 - frac) * DIVERGING[lo] + frac * DIVERGING[lo + 1]
+    rgb = _sample(DIVERGING, np.clip(0.5 + 0.5 * w / scale, 0.0, 1.0))
     if isolines:
         spacing = max(top, bottom) / (isolines + 1) if max(top, bottom) > 0 else 1.0
         phase = (np.abs(w) / spacing) % 1.0
         rgb[np.minimum(phase, 1.0 - phase) < 0.5 * stripe_width] *= 0.25
     rgb[~finite] = UNREACHABLE_COLOR
     return rgb
+
+
+def _sample(table, x):
+    """Colors of ``table`` (evenly spaced samples) at positions ``x`` in [0, 1], interpolated linearly."""
+    pos = x * (len(table) - 1)
+    lo = np.minimum(pos.astype(int), len(table) - 2)
+    frac = (pos - lo)[:, None]
+    return (1 - frac) * table[lo] + frac * table[lo + 1]
 
 
 def to_uint8(rgb):
