@@ -2,7 +2,8 @@
 
 Cases (tests/signed_cases.py): a circle of radius 0.55 on a flat unit disc through the points where it
 crosses the edges; the same broken into four pieces with gaps of 10% of its length; the equator of a UV
-sphere (vertices) and of an icosphere (edge points), whole and broken; the UV sphere as quads (a polygon
+sphere (vertices) and of an icosphere (edge points), whole and broken; another disc's circle of radius
+0.4 and a coarser icosphere's circle at z = 0.5, whole and broken; the UV sphere as quads (a polygon
 mesh); a Fibonacci sphere cloud with points on its equator and a disc cloud of rings. Errors: mean
 absolute error over the vertices relative to the radius (0.55 or 1), and the share of vertices farther than
 one gap from the curve whose sign is right. potpourri3d (1.4): ``MeshSignedHeatSolver`` (its edge points for
@@ -65,6 +66,24 @@ def cases():
     yield ("icosphere, the equator broken in 4", V, lambda: hc.SignedHeatSolver(hc.TriangleMesh(V, F)).distance(
         sc.broken(points)), lambda: pp3d.MeshSignedHeatSolver(V, F).compute_distance(sc.broken(gc)), exact, 1.0,
         0.1 * 2 * np.pi / 4)
+    V, F = sc.disc(seed=1)
+    r = np.linalg.norm(V[:, :2], axis=1)
+    points, gc = sc.level_curve(V, F, r - 0.4, lambda X: np.arctan2(X[:, 1], X[:, 0]))
+    yield ("another disc (seed 1), circle of radius 0.4", V, lambda: hc.SignedHeatSolver(hc.TriangleMesh(V, F)).distance(
+        [sc.closed(points)]), lambda: pp3d.MeshSignedHeatSolver(V, F).compute_distance([sc.closed(gc)]), 0.4 - r, 0.4,
+        0.0)
+    yield ("another disc, that circle broken in 4", V, lambda: hc.SignedHeatSolver(hc.TriangleMesh(V, F)).distance(
+        sc.broken(points)), lambda: pp3d.MeshSignedHeatSolver(V, F).compute_distance(sc.broken(gc)), 0.4 - r, 0.4,
+        0.1 * 2 * np.pi * 0.4 / 4)
+    V, F = sc.icosphere(3)
+    points, gc = sc.level_curve(V, F, V[:, 2] - 0.5 + 1e-7, lambda X: np.arctan2(X[:, 1], X[:, 0]))
+    exact = np.arcsin(np.clip(V[:, 2], -1, 1)) - np.arcsin(0.5)
+    yield ("coarser icosphere, the circle at z = 0.5", V, lambda: hc.SignedHeatSolver(hc.TriangleMesh(V, F)).distance(
+        [sc.closed(points)]), lambda: pp3d.MeshSignedHeatSolver(V, F).compute_distance([sc.closed(gc)]), exact, 1.0,
+        0.0)
+    yield ("coarser icosphere, that circle broken in 4", V, lambda: hc.SignedHeatSolver(hc.TriangleMesh(V, F)).distance(
+        sc.broken(points)), lambda: pp3d.MeshSignedHeatSolver(V, F).compute_distance(sc.broken(gc)), exact, 1.0,
+        0.1 * 2 * np.pi * np.sqrt(0.75) / 4)
     P, loop = sc.sphere_cloud()
     exact = np.arcsin(np.clip(P[:, 2], -1, 1))
     yield ("sphere point cloud, equator", P, lambda: hc.SignedHeatSolver(hc.PointCloud(P)).distance([loop]),
