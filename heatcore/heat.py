@@ -441,6 +441,29 @@ class HeatSolver:
             raise InvalidSourceError("a path needs a source and a target, or points")
         return geodesic_path(self, source, target, both_ends)
 
+    def straighten_path(self, path):
+        """Shorten a path on the surface, ends and homotopy class kept, to a locally shortest geodesic (triangle meshes).
+
+        ``path``: vertex indices joined by edges, or a path object with
+        ``points`` and ``faces`` (a :class:`~heatcore.GeodesicPath`, a
+        :class:`~heatcore.TracedPath`). Returns a :class:`~heatcore.GeodesicPath`;
+        see :func:`heatcore.straighten_path` and docs/paths.md. No query of
+        the factorizations: the straightening reads only the mesh.
+        """
+        from .paths.drawn import straighten_on  # paths import this module
+
+        return straighten_on(self.domain, path)
+
+    def straighten_loop(self, loop):
+        """Shorten a closed curve on the surface to a closed geodesic in its class (triangle meshes).
+
+        ``loop`` as ``path`` of :meth:`straighten_path`, closed by the edge
+        back to its first vertex if it is not. See :func:`heatcore.straighten_loop`.
+        """
+        from .paths.drawn import straighten_loop_on  # paths import this module
+
+        return straighten_loop_on(self.domain, loop)
+
     def trace(self, start, direction, length):
         """The straightest path on the surface from ``start`` along ``direction`` for ``length`` (triangle meshes).
 
