@@ -233,3 +233,48 @@ def test_bad_paths_raise_typed_errors():
         hc.straighten_path(V, F, [0.5, 1.5])
     with pytest.raises(hc.UnsupportedDomainError, match="triangle meshes"):
         hc.HeatSolver(hc.PointCloud(V)).straighten_path([0, 1])
+
+
+def test_straighten_command_writes_the_geodesic(tmp_path, capsys):
+    from heatcore.apps.cli import main
+
+    V, F = revolve(lambda z: 0.7, np.linspace(0, 2, 11), 32)
+    mesh, edges, out = tmp_path / "cylinder.obj", tmp_path / "edges.txt", tmp_path / "s.ply"
+    _write_obj(mesh, V, F)
+    loop = zigzag_loop(32, 4)
+    edges.write_text("# a jagged loop\n" + "\n".join(map(str, loop)) + "\n")
+    assert main(["straighten", str(mesh), "--path", str(edges), "--loop", "-o", str(out), "-q"]) == 0
+    printed = capsys.readouterr().out.split()
+    polygon = 64 * 0.7 * np.sin(np.pi / 32)
+    assert float(printed[1]) == pytest.approx(polygon, rel=1e-9)
+    assert float(printed[4].rstrip(",")) == pytest.approx(edge_length(V, loop + loop[:1]), rel=1e-9)
+    text = out.read_text().splitlines()
+    k = int(next(line.split()[2] for line in text if line.startswith("element vertex")))
+    points = np.array([r.split() for r in text[text.index("end_header") + 1:][:k]], float)
+    assert np.linalg.norm(np.diff(points, axis=0), axis=1).sum() == pytest.approx(polygon, rel=1e-9)
+    edges.write_text("\n".join(map(str, loop[:9])) + "\n")  # open: the ends kept
+    assert main(["straighten", str(mesh), "--path", str(edges), "-o", str(out), "-q"]) == 0
+    assert float(capsys.readouterr().out.split()[1]) == pytest.approx(
+        hc.straighten_path(V, F, loop[:9]).length, rel=1e-9)
+
+
+def test_straighten_command_errors(tmp_path, capsys):
+    from heatcore.apps.cli import main
+    from heatcore.io import demo_mesh_path
+
+    mesh, edges, out = str(demo_mesh_path()), tmp_path / "edges.txt", str(tmp_path / "s.obj")
+    edges.write_text("0\n2\n")  # not an edge of spot
+    assert main(["straighten", mesh, "--path", str(edges), "-o", out, "-q"]) == 1
+    assert "share no edge" in capsys.readouterr().err
+    edges.write_text("0\nseven\n")
+    assert main(["straighten", mesh, "--path", str(edges), "-o", out, "-q"]) == 1
+    assert "line 2" in capsys.readouterr().err
+    assert main(["straighten", mesh, "--path", str(tmp_path / "none.txt"), "-o", out, "-q"]) == 1
+    assert main(["straighten", mesh, "--path", str(edges), "-o", str(tmp_path / "s.txt")]) == 2
+    assert main(["straighten", mesh, "-o", out]) == 2
+    assert not (tmp_path / "s.obj").exists()
+
+
+def _write_obj(path, V, F):
+    path.write_text("".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in V.tolist())
+                    + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in F.tolist()))

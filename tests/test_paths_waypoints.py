@@ -81,3 +81,27 @@ def test_bad_waypoints_raise_typed_errors():
         solver.geodesic_path(0, 3, points=[0, 3])
     with pytest.raises(hc.InvalidSourceError, match="source and a target"):
         solver.geodesic_path(0)
+
+
+def test_path_command_through_waypoints(tmp_path, capsys):
+    from heatcore.apps.cli import main
+    from heatcore.io import demo_mesh_path
+
+    out, mesh = tmp_path / "w.csv", str(demo_mesh_path())
+    assert main(["path", mesh, "--through", "0", "1453", "20:0.2,0.3,0.5", "--closed", "-o", str(out), "-q"]) == 0
+    printed = capsys.readouterr().out.split()
+    V, F = hc.io.load_demo_mesh()
+    expected = hc.HeatSolver(hc.TriangleMesh(V, F)).geodesic_path(points=[0, 1453, (20, [0.2, 0.3, 0.5])],
+                                                                   closed=True)
+    assert float(printed[1]) == pytest.approx(expected.length, rel=1e-9)
+    legs = [float(x) for x in printed[printed.index("legs") + 1:printed.index("legs") + 4]]
+    np.testing.assert_allclose(legs, expected.leg_lengths, rtol=1e-9)
+    points = np.loadtxt(out, delimiter=",", skiprows=1)
+    np.testing.assert_array_equal(points, expected.points)
+    np.testing.assert_array_equal(points[0], points[-1])
+    for bad in (["--through", "0"], ["--through", "0", "5", "--from", "0"], ["--from", "0", "--to", "5", "--closed"],
+                ["--from", "0"]):
+        assert main(["path", mesh, *bad, "-o", str(tmp_path / "p.obj")]) == 2
+    assert main(["path", mesh, "--through", "0", "99999", "-o", str(tmp_path / "p.obj"), "-q"]) == 1
+    assert "leg 0" in capsys.readouterr().err
+    assert not (tmp_path / "p.obj").exists()

@@ -73,6 +73,12 @@ from .reporting import (
     show_warning,
     timed_stage,
 )
+from .straighten_command import (
+    STRAIGHTEN_DESCRIPTION,
+    STRAIGHTEN_HELP,
+    run_straighten,
+    straighten_arguments,
+)
 from .trace_command import TRACE_DESCRIPTION, TRACE_HELP, run_trace, trace_arguments
 
 log = logging.getLogger("heatcore.apps.cli")
@@ -326,6 +332,8 @@ command("logmap", arguments=logmap_arguments,
         "(index,u,v); unreachable vertices get inf.")(run_logmap)
 command("path", arguments=path_arguments, help=PATH_HELP, description=PATH_DESCRIPTION)(run_path)
 command("trace", arguments=trace_arguments, help=TRACE_HELP, description=TRACE_DESCRIPTION)(run_trace)
+command("straighten", arguments=straighten_arguments, help=STRAIGHTEN_HELP,
+        description=STRAIGHTEN_DESCRIPTION)(run_straighten)
 
 
 # --------------------------------------------------------------------------- batch
