@@ -20,6 +20,7 @@ from .operator import MESH_OT_heat_geodesic_distance
 from .path_operator import MESH_OT_heat_geodesic_path
 from .probe_tool import MESH_OT_heat_geodesic_probe
 from .signed_operator import MESH_OT_heat_signed_distance
+from .straighten_operator import MESH_OT_heat_straighten_edges
 from .uv_operator import MESH_OT_heat_geodesic_uv_map
 
 OPERATOR = MESH_OT_heat_geodesic_distance.bl_idname
@@ -41,6 +42,9 @@ UV_ICON = "UV"
 #: *Signed Distance from Edges*, at the end of the Edit Mode *Edge* menu and the context menu (:data:`SIGNED_ENTRIES`).
 SIGNED_OPERATOR = MESH_OT_heat_signed_distance.bl_idname
 SIGNED_ICON = "MOD_MASK"
+#: *Straighten Edges*, in the Edit Mode *Edge* menu after *Signed Distance from Edges*.
+STRAIGHTEN_OPERATOR = MESH_OT_heat_straighten_edges.bl_idname
+STRAIGHTEN_ICON = "IPO_LINEAR"
 #: Marker attribute of our draw functions (finds entries left by an earlier copy of the module).
 MARK = "_heat_geodesic_entry"
 
@@ -106,9 +110,17 @@ def _single_entry(menu, operator, text, icon, kind):
 #: *UV* menu (U), beside Smart UV Project and Project from View.
 UV_ENTRIES = (("VIEW3D_MT_uv_map", _single_entry("VIEW3D_MT_uv_map", UV_OPERATOR, "Geodesic UV Map", UV_ICON,
                                                  "geodesic_uv")),)
-#: Menus with *Signed Distance from Edges*: the Edit Mode *Edge* menu (Ctrl E).
-SIGNED_ENTRIES = (("VIEW3D_MT_edit_mesh_edges", _single_entry("VIEW3D_MT_edit_mesh_edges", SIGNED_OPERATOR,
-                                                              "Signed Distance from Edges", SIGNED_ICON, "signed")),)
+#: Menus with *Signed Distance from Edges* and *Straighten Edges*: the Edit Mode *Edge* menu (Ctrl E).
+SIGNED_ENTRIES = (
+    ("VIEW3D_MT_edit_mesh_edges", _single_entry("VIEW3D_MT_edit_mesh_edges", SIGNED_OPERATOR,
+                                                "Signed Distance from Edges", SIGNED_ICON, "signed")),
+    ("VIEW3D_MT_edit_mesh_edges", _single_entry("VIEW3D_MT_edit_mesh_edges", STRAIGHTEN_OPERATOR,
+                                                "Straighten Edges", STRAIGHTEN_ICON, "straighten")),
+)
+
+
+#: Every (menu, draw function) this add-on adds, in order (a menu may get several).
+ALL_ENTRIES = ENTRIES + UV_ENTRIES + SIGNED_ENTRIES
 
 
 def ours(menu):
@@ -132,11 +144,9 @@ def register():
     >>> len(ours("VIEW3D_MT_object"))  # doctest: +SKIP
     1
     """
-    for menu, draw in ENTRIES + UV_ENTRIES + SIGNED_ENTRIES:
-        cls = getattr(bpy.types, menu)
-        for old in ours(menu):
-            cls.remove(old)
-        cls.append(draw)
+    unregister()  # entries of an earlier copy of this module
+    for menu, draw in ALL_ENTRIES:
+        getattr(bpy.types, menu).append(draw)
 
 
 def unregister():
@@ -148,7 +158,7 @@ def unregister():
     >>> ours("VIEW3D_MT_object")  # doctest: +SKIP
     []
     """
-    for menu, _ in reversed(ENTRIES + UV_ENTRIES + SIGNED_ENTRIES):
+    for menu in dict.fromkeys(menu for menu, _ in reversed(ALL_ENTRIES)):
         cls = getattr(bpy.types, menu)
         for old in ours(menu):
             cls.remove(old)
