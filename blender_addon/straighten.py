@@ -18,18 +18,15 @@ Examples
 """
 
 import time
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from ._heatcore import heatcore
 from .adapters import AddonError
-from .cache import SOLVERS
 from .curves import write_curves
-from .path_api import edge_chain_along, select_mesh_edges
+from .path_api import edge_chain_along, path_run, select_mesh_edges, world_points
 from .signed import selected_edges
-from .stages import build_solver, prepare_run
 
 
 @dataclass
@@ -99,13 +96,7 @@ def straighten_edges(obj, edges=None, *, select_edges=False, space="WORLD", shap
     pairs = selected_edges(obj.data) if edges is None else np.asarray(edges, dtype=np.int64).reshape(-1, 2)
     if len(pairs) == 0:
         raise AddonError(f"no edge selected on {obj.name!r}: select an edge path or loop in Edit Mode")
-    run = prepare_run(obj, sources_later=True, space=space, shape=shape, progress=progress,
-                      attribute=None, color_attribute=None, **solver_options)
-    for note in run.notes:
-        warnings.warn(note, stacklevel=2)
-    if run.solver is None:
-        build_solver(run, progress)
-        SOLVERS.store(run.cache_id, run.key, run.solver)
+    run = path_run(obj, space, shape, progress, solver_options)
     chains = heatcore.edge_curves(run.solver.domain.faces, pairs)
     paths, before, closed = [], [], []
     try:
@@ -117,21 +108,13 @@ def straighten_edges(obj, edges=None, *, select_edges=False, space="WORLD", shap
             closed.append(loop)
     except heatcore.HeatcoreError as exc:
         raise AddonError(f"{obj.name}: {exc}") from None
-    points = [_world(obj, run, p.points) for p in paths]
+    points = [world_points(obj, run, p.points) for p in paths]
     curve = write_curves(obj, "Straightened", points, closed=closed)
     edge_ids = np.zeros(0, dtype=np.int64)
     if select_edges:
         edge_ids = _reselect(obj, run, chains, paths, closed)
     return StraightenResult(curve, paths, [float(p.length) for p in paths], before, closed, edge_ids,
                             time.perf_counter() - start, run.cached, list(run.notes))
-
-
-def _world(obj, run, points):
-    points = np.asarray(points, dtype=np.float64)
-    if run.space == "LOCAL":
-        M = np.array(obj.matrix_world, dtype=np.float64)
-        points = points @ M[:3, :3].T + M[:3, 3]
-    return points
 
 
 def _reselect(obj, run, chains, paths, closed):
