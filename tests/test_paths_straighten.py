@@ -187,6 +187,16 @@ def test_jagged_loop_around_a_cylinder_becomes_a_circle(sides):
     assert_locally_shortest(hc.TriangleMesh(V, F, refine=0), loop)
 
 
+def test_a_closed_waypoint_path_around_a_cylinder_becomes_a_circle():
+    V, F = revolve(lambda z: 0.7, np.linspace(0, 2, 11), 32)
+    solver = hc.HeatSolver(hc.TriangleMesh(V, F))
+    ring = solver.geodesic_path(points=[4 * 32, 6 * 32 + 11, 3 * 32 + 22], closed=True)  # a triangle round it
+    loop = solver.straighten_loop(ring)
+    assert ring.length > 1.04 * loop.length
+    assert loop.length == pytest.approx(64 * 0.7 * np.sin(np.pi / 32), rel=1e-12)
+    assert np.ptp(loop.points[:, 2]) <= 1e-12
+
+
 def test_loop_around_a_neck_slides_to_the_waist():
     sides, waist = 32, 0.5
     V, F = revolve(lambda z: np.hypot(waist, z), np.linspace(-1, 1, 21), sides)
