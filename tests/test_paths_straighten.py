@@ -202,8 +202,8 @@ def test_loop_around_a_neck_slides_to_the_waist():
     V, F = revolve(lambda z: np.hypot(waist, z), np.linspace(-1, 1, 21), sides)
     loop = hc.straighten_loop(V, F, zigzag_loop(sides, 13))  # starts between z = 0.3 and 0.4
     polygon = 2 * sides * waist * np.sin(np.pi / sides)
-    assert loop.length == pytest.approx(polygon, rel=1e-10)  # measured 9e-12
-    assert np.abs(loop.points[:, 2]).max() <= 1e-8  # measured 1.5e-9
+    assert loop.length == pytest.approx(polygon, rel=1e-12)  # the waist's polygon, to rounding
+    assert np.abs(loop.points[:, 2]).max() <= 1e-12
     assert_locally_shortest(hc.TriangleMesh(V, F, refine=0), loop)
 
 
@@ -236,8 +236,8 @@ def test_loop_around_a_torus_hole_slides_to_the_inner_equator():
         edges += [i * n_tube + 8, (i + 1) * n_tube + 8, (i + 1) * n_tube + 9, ((i + 2) % n_around) * n_tube + 9]
     loop = hc.straighten_loop(V, F, edges)
     inner = 2 * n_around * (R - r) * np.sin(np.pi / n_around)  # the shortest loop in its class: the inner ring
-    assert loop.length == pytest.approx(inner, rel=1e-10)  # measured 2.5e-12
-    assert np.abs(loop.points[:, 2]).max() <= 1e-8
+    assert loop.length == pytest.approx(inner, rel=1e-12)  # the inner ring's polygon, to rounding
+    assert np.abs(loop.points[:, 2]).max() <= 1e-12
     assert_locally_shortest(hc.TriangleMesh(V, F, refine=0), loop)
 
 

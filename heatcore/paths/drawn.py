@@ -347,7 +347,8 @@ def _slide_base(mesh, piece, b):
     the edge's parameter, the route of faces kept): there the loop is straight
     at its base too, a closed geodesic, unless the best place is an end of the
     edge (the next round moves the base again). The search runs only where a
-    step of ``SLIDE_STEP`` either way shortens the loop; elsewhere it is
+    step of ``SLIDE_STEP`` either way shortens the loop (and the edge's end
+    is tried where it stops that close to it); elsewhere it is
     straight at its base already (or as short all along the edge, as round a
     cylinder). A vertex base (a loop with no edge crossing) is not slid.
     """
@@ -368,8 +369,11 @@ def _slide_base(mesh, piece, b):
         return best
     found = minimize_scalar(lambda t: _length(loop_at(t).xyz), bounds=(0.0, 1.0), method="bounded",
                             options={"xatol": 1e-13})
-    slid = loop_at(float(found.x))
-    return slid if _length(slid.xyz) < _length(best.xyz) else best
+    t = float(found.x)
+    candidates = [best, loop_at(t)]
+    if min(t, 1.0 - t) <= SLIDE_STEP:  # the search stops short of the edge's ends: a vertex base may be shorter
+        candidates.append(loop_at(round(t)))
+    return min(candidates, key=lambda candidate: _length(candidate.xyz))
 
 
 def _rotated(mesh, piece, b):
