@@ -187,29 +187,57 @@ def test_jagged_loop_around_a_cylinder_becomes_a_circle(sides):
     assert_locally_shortest(hc.TriangleMesh(V, F, refine=0), loop)
 
 
+def test_a_closed_waypoint_path_around_a_cylinder_becomes_a_circle():
+    V, F = revolve(lambda z: 0.7, np.linspace(0, 2, 11), 32)
+    solver = hc.HeatSolver(hc.TriangleMesh(V, F))
+    ring = solver.geodesic_path(points=[4 * 32, 6 * 32 + 11, 3 * 32 + 22], closed=True)  # a triangle round it
+    loop = solver.straighten_loop(ring)
+    assert ring.length > 1.04 * loop.length
+    assert loop.length == pytest.approx(64 * 0.7 * np.sin(np.pi / 32), rel=1e-12)
+    assert np.ptp(loop.points[:, 2]) <= 1e-12
+
+
 def test_loop_around_a_neck_slides_to_the_waist():
     sides, waist = 32, 0.5
     V, F = revolve(lambda z: np.hypot(waist, z), np.linspace(-1, 1, 21), sides)
     loop = hc.straighten_loop(V, F, zigzag_loop(sides, 13))  # starts between z = 0.3 and 0.4
     polygon = 2 * sides * waist * np.sin(np.pi / sides)
-    assert loop.length == pytest.approx(polygon, rel=1e-10)  # measured 9e-12
-    assert np.abs(loop.points[:, 2]).max() <= 1e-8  # measured 1.5e-9
+    assert loop.length == pytest.approx(polygon, rel=1e-12)  # the waist's polygon, to rounding
+    assert np.abs(loop.points[:, 2]).max() <= 1e-12
     assert_locally_shortest(hc.TriangleMesh(V, F, refine=0), loop)
 
 
-def test_loop_around_a_torus_tube_is_the_tube_circle():
-    R, r, n_around, n_tube = 1.0, 0.3, 48, 32
+def torus(R, r, n_around, n_tube):
+    """A torus about z: vertex ``i * n_tube + j`` at angle ``2 pi i / n_around`` round the axis, ``2 pi j / n_tube`` round the tube."""
     u, w = np.meshgrid(2 * np.pi * np.arange(n_around) / n_around, 2 * np.pi * np.arange(n_tube) / n_tube,
                        indexing="ij")
     V = np.stack([(R + r * np.cos(w)) * np.cos(u), (R + r * np.cos(w)) * np.sin(u), r * np.sin(w)], -1).reshape(-1, 3)
     i, j = np.meshgrid(np.arange(n_around), np.arange(n_tube), indexing="ij")
     a, b = i * n_tube + j, i * n_tube + (j + 1) % n_tube
     c, d = ((i + 1) % n_around) * n_tube + (j + 1) % n_tube, ((i + 1) % n_around) * n_tube + j
-    F = np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
+    return V, np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
+
+
+def test_loop_around_a_torus_tube_is_the_tube_circle():
+    r, n_tube = 0.3, 32
+    V, F = torus(1.0, r, 48, n_tube)
     edges = zigzag_loop(n_tube, 3)
     loop = hc.straighten_loop(V, F, edges)
-    assert abs(loop.length / (2 * np.pi * r) - 1) <= 5e-3
+    assert abs(loop.length / (2 * np.pi * r) - 1) <= 5e-3  # measured -0.27%
     assert loop.length <= edge_length(V, edges + edges[:1])
+    assert_locally_shortest(hc.TriangleMesh(V, F, refine=0), loop)
+
+
+def test_loop_around_a_torus_hole_slides_to_the_inner_equator():
+    R, r, n_around, n_tube = 1.0, 0.3, 48, 32
+    V, F = torus(R, r, n_around, n_tube)
+    edges = []  # on top of the tube, between the rings j = 8 (w = pi / 2) and j = 9
+    for i in range(0, n_around, 2):
+        edges += [i * n_tube + 8, (i + 1) * n_tube + 8, (i + 1) * n_tube + 9, ((i + 2) % n_around) * n_tube + 9]
+    loop = hc.straighten_loop(V, F, edges)
+    inner = 2 * n_around * (R - r) * np.sin(np.pi / n_around)  # the shortest loop in its class: the inner ring
+    assert loop.length == pytest.approx(inner, rel=1e-12)  # the inner ring's polygon, to rounding
+    assert np.abs(loop.points[:, 2]).max() <= 1e-12
     assert_locally_shortest(hc.TriangleMesh(V, F, refine=0), loop)
 
 

@@ -51,6 +51,8 @@ from .trace import Route
 LOOP_TOL = 1e-12
 #: A crossing this close to an edge's end (in the edge's parameter) is taken as that vertex.
 SNAP = 1e-12
+#: Step along the base's edge (in its parameter) that tells whether sliding the base shortens a loop.
+SLIDE_STEP = 1e-4
 #: Rounds of moving a loop's base point at most.
 LOOP_ROUNDS = 200
 
@@ -325,8 +327,11 @@ def _length(xyz):
 
 
 def _halfway(piece):
-    """Index of a point inside an edge near half the loop's length from its start, or None."""
-    inside = np.flatnonzero((piece.vertex < 0) & (piece.edge[:, 0] >= 0))
+    """Index of a point inside an edge (or, where there is none, a vertex) near half the loop's length, or None."""
+    inner = np.arange(1, len(piece.xyz) - 1)
+    inside = inner[(piece.vertex[inner] < 0) & (piece.edge[inner, 0] >= 0)]
+    if inside.size == 0:
+        inside = inner[piece.vertex[inner] >= 0]
     if inside.size == 0:
         return None
     run = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(piece.xyz, axis=0), axis=1))]
@@ -341,10 +346,16 @@ def _slide_base(mesh, piece, b):
     slid along its edge to where the loop is shortest (bounded Brent search on
     the edge's parameter, the route of faces kept): there the loop is straight
     at its base too, a closed geodesic, unless the best place is an end of the
-    edge (the next round moves the base again).
+    edge (the next round moves the base again). The search runs only where a
+    step of ``SLIDE_STEP`` either way shortens the loop (and the edge's end
+    is tried where it stops that close to it); elsewhere it is
+    straight at its base already (or as short all along the edge, as round a
+    cylinder). A vertex base (a loop with no edge crossing) is not slid.
     """
     rows, vertex, xyz, base_point = _rotated(mesh, piece, b)
     route, _, _ = route_of(mesh, rows, vertex, xyz)
+    if base_point.vertex >= 0:  # a loop along edges and through vertices only: rerouted, not slid
+        return straighten(mesh, route, base_point, base_point)
     a, c = (int(x) for x in piece.edge[b])
 
     def loop_at(t):
@@ -352,16 +363,25 @@ def _slide_base(mesh, piece, b):
         return straighten(mesh, route, point, point)
 
     best = straighten(mesh, route, base_point, base_point)
+    t0, length = float(piece.t[b]), _length(best.xyz)
+    nearby = [_length(loop_at(t).xyz) for t in (max(t0 - SLIDE_STEP, 0.0), min(t0 + SLIDE_STEP, 1.0)) if t != t0]
+    if not nearby or min(nearby) >= length * (1.0 - LOOP_TOL):  # straight at its base already (or flat there)
+        return best
     found = minimize_scalar(lambda t: _length(loop_at(t).xyz), bounds=(0.0, 1.0), method="bounded",
                             options={"xatol": 1e-13})
-    slid = loop_at(float(found.x))
-    return slid if _length(slid.xyz) < _length(best.xyz) else best
+    t = float(found.x)
+    candidates = [best, loop_at(t)]
+    if min(t, 1.0 - t) <= SLIDE_STEP:  # the search stops short of the edge's ends: a vertex base may be shorter
+        candidates.append(loop_at(round(t)))
+    return min(candidates, key=lambda candidate: _length(candidate.xyz))
 
 
 def _rotated(mesh, piece, b):
-    """The closed ``piece`` started at its point ``b`` (inside an edge): rows, vertex, xyz, and that point."""
+    """The closed ``piece`` started at its point ``b`` (inside an edge, or a vertex): rows, vertex, xyz, that point."""
     k = len(piece.xyz)
     order = np.r_[np.arange(b, k - 1), np.arange(0, b + 1)]
     rows = np.r_[piece.faces[b:], piece.faces[:b]]
+    if piece.vertex[b] >= 0:
+        return rows, piece.vertex[order], piece.xyz[order], mesh.vertex_point(int(piece.vertex[b]))
     a, c = (int(x) for x in piece.edge[b])
     return rows, piece.vertex[order], piece.xyz[order], mesh.edge_point(a, c, float(piece.t[b]))
