@@ -135,7 +135,7 @@ def compute_geodesic_distance(
         modified; disable or remove the modifier to restore the look.
     isoline_spacing : float
         Distance between the material's isolines, in the units of the
-        distance (``space``); 0: the largest distance / ``isolines``.
+        distance (``space``); 0: the largest distance / (``isolines`` + 1).
     isoline_width : float
         Width of the material's isolines in screen pixels, at any zoom (a
         line is 0.7 to 1 times it wide, by its direction on screen).

@@ -291,7 +291,9 @@ class MESH_OT_heat_geodesic_probe(bpy.types.Operator):
     bl_label = "Geodesic Probe"
     bl_options = {"REGISTER", "UNDO"}
 
-    release_confirms: BoolProperty(name="Release Confirms", default=False, options={"HIDDEN", "SKIP_SAVE"})
+    release_confirms: BoolProperty(name="Release Confirms", default=False, options={"HIDDEN", "SKIP_SAVE"},
+                                   description="Apply the distance when the mouse button is released (the toolbar "
+                                               "tool's click-and-drag)")
     path_curve: BoolProperty(
         name="Path Curve",
         description="When applied, also write the geodesic path to the target as a curve object "

@@ -23,7 +23,7 @@ from mathutils import Vector
 from ._heatcore import heatcore
 from .adapters import AddonError
 from .operator import options_from_panel, poll_editable_mesh
-from .properties import SHAPE_ITEMS, SPACE_ITEMS, UVMapOptions, option_property, option_value
+from .properties import SHAPE_HELP, SHAPE_ITEMS, SPACE_HELP, SPACE_ITEMS, UVMapOptions, option_property, option_value
 from .uvmap import VECTOR_OPTIONS, geodesic_uv_map
 
 #: The UV map's solver and mesh options that are the distance's (all but ``accuracy``: ``uv_accuracy``).
@@ -58,8 +58,8 @@ class MESH_OT_heat_geodesic_uv_map(UVMapOptions, bpy.types.Operator):
 
     vertex: IntProperty(name="Vertex", default=-1, min=-1,
                         description="Source vertex (-1: the active vertex in Edit Mode)")
-    space: EnumProperty(name="Space", items=SPACE_ITEMS, default="WORLD")
-    shape: EnumProperty(name="Shape", items=SHAPE_ITEMS, default="EVALUATED")
+    space: EnumProperty(name="Space", items=SPACE_ITEMS, default="WORLD", description=SPACE_HELP)
+    shape: EnumProperty(name="Shape", items=SHAPE_ITEMS, default="EVALUATED", description=SHAPE_HELP)
     view_up: FloatVectorProperty(name="View Up", size=3, default=(0.0, 0.0, 0.0), options={"HIDDEN", "SKIP_SAVE"},
                                  description="The 3D View's up direction when invoked (zero: none)")
 
