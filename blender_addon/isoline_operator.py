@@ -144,6 +144,9 @@ class MESH_OT_heat_geodesic_isoline_curves(bpy.types.Operator):
     @classmethod
     def poll(cls, context):
         obj = context.active_object
+        if obj is not None and obj.type == "MESH" and not obj.visible_get():
+            cls.poll_message_set("The active object is hidden")
+            return False
         return obj is not None and obj.type == "MESH"
 
     def execute(self, context):

@@ -26,6 +26,7 @@ from .background import CANCELLED, FAILED, RUNNING, BackgroundBuild, Busy
 from .display import ProgressDisplay
 from .properties import GeodesicOptions
 from .stages import BUILD_RANGE, build_solver, check_unchanged, finish_run, prepare_run
+from .targets import skipped_message, target_objects
 
 #: Errors reported as messages (anything else is a bug: it propagates, with its traceback).
 REPORTED_ERRORS = (AddonError, heatcore.HeatcoreError, MemoryError)
@@ -180,6 +181,9 @@ def poll_editable_mesh(cls, context):
     if obj is None or obj.type != "MESH":
         cls.poll_message_set("The active object must be a mesh")
         return False
+    if not obj.visible_get():
+        cls.poll_message_set("The active object is hidden")
+        return False
     if not obj.data.is_editmode and (obj.library or obj.data.library):
         cls.poll_message_set("Linked (library) meshes cannot be modified")
         return False
@@ -197,16 +201,19 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
 
     def invoke(self, context, event):
         options_from_panel(self, context, GeodesicOptions.__annotations__)
-        if bpy.app.background or context.window is None:
-            return self.execute(context)
+        targets, skipped = target_objects(context)
+        if bpy.app.background or context.window is None or len(targets) != 1:
+            return self.execute(context)  # several objects: one after the other, each with its progress
+        if skipped:
+            self.report({"WARNING"}, skipped_message(skipped))
         running = BackgroundBuild.running()
         if running is not None:
             self.report({"WARNING"}, f"Geodesic distance: {running.busy_message()}")
             return {"CANCELLED"}
         try:
-            run = prepare_run(context.active_object, **self.call_options())
+            run = prepare_run(targets[0], **self.call_options())
             if run.solver is not None:  # cached: only the query is left, no thread needed
-                obj = context.active_object
+                obj = targets[0]
                 return report_result(context, finish_run(run, obj=obj), self.report, obj, self.isoline_material)
         except REPORTED_ERRORS as exc:
             self.report({"ERROR"}, str(exc))
@@ -231,20 +238,29 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
             modal.cancel()
 
     def execute(self, context):
-        obj = context.active_object
+        """Measure every target (:func:`~.targets.target_objects`) on its own; name those left out."""
+        targets, skipped = target_objects(context)
         wm = context.window_manager
-        wm.progress_begin(0, 100)
+        done = []
+        for obj in targets:
+            wm.progress_begin(0, 100)
 
-        def progress(fraction, message):
-            wm.progress_update(int(100 * fraction))
-            _status(context, f"Geodesic distance: {message}")
+            def progress(fraction, message, name=obj.name):
+                wm.progress_update(int(100 * fraction))
+                _status(context, f"Geodesic distance ({name}): {message}")
 
-        try:
-            result = compute_geodesic_distance(obj, progress=progress, **self.call_options())
-        except (AddonError, heatcore.HeatcoreError) as exc:
-            self.report({"ERROR"}, str(exc))
-            return {"CANCELLED"}
-        finally:
-            wm.progress_end()
-            _status(context, None)
-        return report_result(context, result, self.report, obj, self.isoline_material)
+            try:
+                done.append((obj, compute_geodesic_distance(obj, progress=progress, **self.call_options())))
+            except REPORTED_ERRORS as exc:
+                if len(targets) == 1 and not skipped:
+                    self.report({"ERROR"}, str(exc))
+                    return {"CANCELLED"}
+                skipped.append((obj.name, str(exc)))
+            finally:
+                wm.progress_end()
+                _status(context, None)
+        for obj, result in done:
+            report_result(context, result, self.report, obj, self.isoline_material)
+        if skipped:
+            self.report({"WARNING"} if done else {"ERROR"}, skipped_message(skipped))
+        return {"FINISHED"} if done else {"CANCELLED"}

@@ -165,12 +165,15 @@ def resolve_sources(obj, sources=None, vertex_group=None, F=None, notes=None):
     Raises
     ------
     AddonError
-        No source vertex, only loose ones, or indices outside the mesh.
+        No source vertex, only loose ones, indices outside the mesh, or an empty group name.
     """
     n = len(obj.data.vertices)
     if sources is not None:
         src = np.unique(np.asarray(sources, dtype=np.int64).ravel())
         what = "the given source list"
+    elif vertex_group == "":
+        raise AddonError(f"no source vertex group chosen for {obj.name!r}: pick one in Sources > Group, "
+                         "or set Sources to Selected Vertices")
     elif vertex_group:
         src = adapters.vertex_group_members(obj, vertex_group)
         what = f"vertex group {vertex_group!r}"

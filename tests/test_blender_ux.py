@@ -49,3 +49,67 @@ def test_spacing_tooltip_is_the_spacing_the_material_uses(addon):
     result = addon.compute_geodesic_distance(obj, isolines=9, isoline_material=True)
     legend = addon.material.isoline_legend(obj)
     assert legend.spacing == pytest.approx(result.max_distance / 10, rel=1e-5)
+
+
+# ---------------------------------------------------------------- selection
+
+
+def _sphere_at(x, radius, name):
+    obj = ico_sphere(3, radius)
+    obj.location.x = x
+    obj.name = name
+    return obj
+
+
+def test_every_selected_mesh_is_measured_on_its_own_and_the_others_named(addon, capfd):
+    a, b = _sphere_at(0.0, 1.0, "A"), _sphere_at(4.0, 2.0, "B")
+    select_only(a, [0])
+    select_only(b, [5])
+    bpy.ops.object.empty_add(location=(9, 0, 0))
+    empty = bpy.context.active_object
+    for obj in (a, b, empty):
+        obj.select_set(True)
+    with bpy.context.temp_override(active_object=a, object=a, selected_objects=[a, b, empty]):
+        assert bpy.ops.mesh.heat_geodesic_distance(isolines=0) == {"FINISHED"}
+    for obj, source in ((a, 0), (b, 5)):
+        d = attribute(obj.data, "geodesic_distance")
+        expected = addon.compute_geodesic_distance(obj, sources=[source], attribute=None, color_attribute=None)
+        np.testing.assert_allclose(d, expected.distance, rtol=1e-5, atol=1e-6)
+        assert d[source] == 0.0
+    out = capfd.readouterr()
+    assert "Skipped 'Empty' (not a mesh)" in out.out + out.err
+
+
+def test_a_selected_object_without_sources_is_named_and_the_others_measured(addon, capfd):
+    a, b = _sphere_at(0.0, 1.0, "A"), _sphere_at(4.0, 1.0, "B")
+    select_only(a, [0])
+    select_only(b, [])
+    with bpy.context.temp_override(active_object=a, object=a, selected_objects=[a, b]):
+        assert bpy.ops.mesh.heat_geodesic_distance() == {"FINISHED"}
+    assert "geodesic_distance" in a.data.attributes and "geodesic_distance" not in b.data.attributes
+    out = capfd.readouterr()
+    assert "Skipped 'B' (no source vertices" in out.out + out.err
+
+
+def test_hidden_objects_are_refused(addon):
+    a, b = _sphere_at(0.0, 1.0, "A"), _sphere_at(4.0, 1.0, "B")
+    select_only(a, [0])
+    select_only(b, [0])
+    b.hide_set(True)
+    targets, skipped = addon.targets.target_objects(
+        type("Context", (), {"active_object": a, "selected_objects": [a, b]})())
+    assert targets == [a] and skipped == [("B", "hidden")]
+    for op in ("heat_geodesic_distance", "heat_geodesic_path", "heat_geodesic_probe", "heat_geodesic_uv_map",
+               "heat_geodesic_isoline_curves"):
+        with bpy.context.temp_override(active_object=b, object=b, selected_objects=[b]):
+            assert not getattr(bpy.ops.mesh, op).poll(), op
+
+
+def test_vertex_group_sources_with_no_group_chosen_is_an_error(addon):
+    obj = ico_sphere(2)
+    select_only(obj, [0])
+    with pytest.raises(RuntimeError, match="no source vertex group chosen"):
+        run(obj, source="VERTEX_GROUP", vertex_group="")
+    assert "geodesic_distance" not in obj.data.attributes
+    with pytest.raises(addon.AddonError, match="no source vertex group chosen"):
+        addon.compute_geodesic_distance(obj, vertex_group="")
