@@ -20,6 +20,7 @@ Examples
 """
 
 
+import os
 import time
 
 import bpy
@@ -359,12 +360,17 @@ class MESH_OT_heat_geodesic_probe(bpy.types.Operator):
         return {"CANCELLED"}
 
 
+#: The tool's own toolbar icon (a source point and its isolines; ``scripts/make_probe_icon.py`` draws it): the
+#: path of its ``.dat`` file without the extension, as Blender takes it.
+ICON = os.path.join(os.path.dirname(__file__), "icons", "ops.mesh.heat_geodesic_probe")
+
+
 class _ProbeTool:
     bl_space_type = "VIEW_3D"
     bl_label = "Geodesic Probe"
     bl_description = ("Click on a mesh to see the geodesic distance from that point; drag to move it, release to "
                       "apply. Shift+click adds a source, Ctrl+click draws the path to a target")
-    bl_icon = "ops.view3d.ruler"
+    bl_icon = ICON
     bl_widget = None
     bl_keymap = tuple(
         (OPERATOR, {"type": "LEFTMOUSE", "value": "PRESS", **modifier}, {"properties": [("release_confirms", True)]})

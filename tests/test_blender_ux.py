@@ -6,6 +6,8 @@ several selected objects, faces and edges as sources are checked against
 heatcore called on the same arrays.
 """
 
+from pathlib import Path
+
 import bpy
 import numpy as np
 import pytest
@@ -113,3 +115,79 @@ def test_vertex_group_sources_with_no_group_chosen_is_an_error(addon):
     assert "geodesic_distance" not in obj.data.attributes
     with pytest.raises(addon.AddonError, match="no source vertex group chosen"):
         addon.compute_geodesic_distance(obj, vertex_group="")
+
+
+# ---------------------------------------------------------------- consistency
+
+
+def test_isoline_curves_count_is_the_panels_isolines(addon):
+    settings = bpy.context.scene.heat_geodesic
+    assert addon.isoline_operator.DEFAULT_COUNT == settings.bl_rna.properties["isolines"].default == 10
+    count = bpy.ops.mesh.heat_geodesic_isoline_curves.get_rna_type().properties["count"]
+    assert count.default == settings.bl_rna.properties["isolines"].default
+    obj = ico_sphere(3)
+    select_only(obj, [0])
+    settings.isolines = 6
+    try:
+        run(obj, isolines=6)
+        with bpy.context.temp_override(active_object=obj, object=obj):
+            assert bpy.ops.mesh.heat_geodesic_isoline_curves("INVOKE_DEFAULT") == {"FINISHED"}
+    finally:
+        settings.isolines = 10
+    curve = bpy.data.objects[f"{obj.name} Geodesic Isolines"]
+    d = attribute(obj.data, "geodesic_distance")
+    levels = addon.isoline_operator.curve_levels(d, 6, 0.0)
+    np.testing.assert_allclose(levels, d.max() * np.arange(1, 7) / 7)  # the stripes' levels
+    assert len(curve.data.splines) >= 6
+
+
+def test_probe_and_isoline_curves_share_one_object(addon):
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=12, y_subdivisions=12, size=2.0)
+    obj = bpy.context.active_object
+    select_only(obj, [0])
+    run(obj, isolines=4)
+    with bpy.context.temp_override(active_object=obj, object=obj):
+        bpy.ops.mesh.heat_geodesic_isoline_curves(count=4)
+    probe = addon.GeodesicProbe(obj, isoline_curves=True, isolines=4)
+    probe.move_to(0, (1.0, 0.0, 0.0))
+    probe.confirm(push_undo=False)
+    with bpy.context.temp_override(active_object=obj, object=obj):
+        bpy.ops.mesh.heat_geodesic_isoline_curves(count=4)
+    names = [o.name for o in bpy.data.objects if o.type == "CURVE"]
+    assert names == [f"{obj.name} Geodesic Isolines"]
+
+
+def test_the_probe_tool_has_an_icon_of_its_own(addon):
+    for tool in (addon.probe_tool.VIEW3D_WT_heat_geodesic_probe_object,):
+        assert tool.bl_icon != "ops.view3d.ruler"
+        icon = Path(tool.bl_icon + ".dat")
+        assert icon.is_file() and icon.parent.parent == Path(addon.__file__).parent
+        data = icon.read_bytes()
+        assert data[:4] == b"VCO\x00" and (len(data) - 8) % 18 == 0 and len(data) > 8
+        assert bpy.app.icons.new_triangles_from_file(str(icon)) > 0
+
+
+def test_shape_keys_object_mode_measures_the_mix_and_edit_mode_the_active_key(addon):
+    obj = ico_sphere(3)
+    obj.shape_key_add(name="Basis")
+    tall = obj.shape_key_add(name="Tall")
+    co = np.array([v.co for v in obj.data.vertices]) * [1.0, 1.0, 2.0]
+    tall.data.foreach_set("co", co.astype(np.float32).ravel())
+    tall.value = 0.5
+    obj.active_shape_key_index = 1
+    bpy.context.view_layer.update()
+    pole = int(np.argmax(co[:, 2]))
+    mix = addon.compute_geodesic_distance(obj, sources=[pole], attribute=None, color_attribute=None)
+    with bpy.context.temp_override(active_object=obj, object=obj):
+        bpy.ops.object.mode_set(mode="EDIT")
+    try:
+        key = addon.compute_geodesic_distance(obj, sources=[pole], attribute=None, color_attribute=None)
+    finally:
+        with bpy.context.temp_override(active_object=obj, object=obj):
+            bpy.ops.object.mode_set(mode="OBJECT")
+    # pole to pole: half an ellipse of half-height 1.5 (the mix) and 2 (the key at full)
+    assert mix.max_distance == pytest.approx(3.97, rel=0.03)
+    assert key.max_distance == pytest.approx(4.84, rel=0.03)
+    docs = (Path(__file__).resolve().parents[1] / "docs" / "blender.md").read_text()
+    assert "Object Mode measures the shape keys as mixed" in docs
+
