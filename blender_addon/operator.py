@@ -24,6 +24,7 @@ from .adapters import AddonError
 from .api import compute_geodesic_distance
 from .background import CANCELLED, FAILED, RUNNING, BackgroundBuild, Busy
 from .display import ProgressDisplay
+from .legend import format_distance
 from .properties import GeodesicOptions
 from .stages import BUILD_RANGE, build_solver, check_unchanged, finish_run, prepare_run
 from .targets import skipped_message, target_objects
@@ -51,14 +52,16 @@ def show_color_attribute(context, material=False):
                 shading.color_type = "VERTEX"  # "Attribute" in the UI
 
 
-def report_result(context, result, report, obj, material=False):
-    """Statistics for the panel, attribute colors in the viewport, and the INFO (and WARNING) reports of a run on ``obj``."""
+def report_result(context, result, report, obj, material=False, space="WORLD"):
+    """Statistics for the panel, attribute colors in the viewport, and the INFO (and WARNING) reports of a run on ``obj``
+    (its largest distance in the scene's units in World ``space``)."""
     stats = context.window_manager.heat_geodesic_stats
     stats.valid = True
     stats.object_name = result.object.name
     stats.vertices = result.n_vertices
     stats.sources = result.sources.size
     stats.max_distance = result.max_distance
+    stats.space = space
     stats.seconds = result.seconds
     stats.solver_seconds = result.solver_seconds
     stats.cached = result.cached
@@ -70,7 +73,7 @@ def report_result(context, result, report, obj, material=False):
     report(
         {"INFO"},
         f"Geodesic distance on {result.n_vertices:,} vertices{where} from {result.sources.size:,} sources: "
-        f"max {result.max_distance:.4g}, {result.seconds:.2f} s ({how})",
+        f"max {format_distance(result.max_distance, space, context.scene)}, {result.seconds:.2f} s ({how})",
     )
     return {"FINISHED"}
 
@@ -135,7 +138,7 @@ class ModalRun:
                 return {"CANCELLED"}
         finally:
             self.display.end()
-        return report_result(context, result, self.report, obj, self.run.outputs["isoline_material"])
+        return report_result(context, result, self.report, obj, self.run.outputs["isoline_material"], self.run.space)
 
     def cancel(self, message=None):
         """Cancel the build (the worker stops at its next stage), take the display down: ``{"CANCELLED"}``."""
@@ -214,7 +217,8 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
             run = prepare_run(targets[0], **self.call_options())
             if run.solver is not None:  # cached: only the query is left, no thread needed
                 obj = targets[0]
-                return report_result(context, finish_run(run, obj=obj), self.report, obj, self.isoline_material)
+                return report_result(context, finish_run(run, obj=obj), self.report, obj, self.isoline_material,
+                                     self.space)
         except REPORTED_ERRORS as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
@@ -260,7 +264,7 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
                 wm.progress_end()
                 _status(context, None)
         for obj, result in done:
-            report_result(context, result, self.report, obj, self.isoline_material)
+            report_result(context, result, self.report, obj, self.isoline_material, self.space)
         if skipped:
             self.report({"WARNING"} if done else {"ERROR"}, skipped_message(skipped))
         return {"FINISHED"} if done else {"CANCELLED"}

@@ -20,6 +20,7 @@ from ._heatcore import heatcore
 from .adapters import AddonError
 from .operator import options_from_panel, poll_editable_mesh
 from .path_api import geodesic_path
+from .legend import format_distance
 from .properties import GeodesicOptions
 
 #: What the operator's redo panel shows (the other options do not change a path).
@@ -55,9 +56,9 @@ class MESH_OT_heat_geodesic_path(GeodesicOptions, bpy.types.Operator):
             return {"CANCELLED"}
         for note in result.warnings:
             self.report({"WARNING"}, note)
-        units = "scene units" if self.space == "WORLD" else "object units"
+        length = format_distance(result.length, self.space, context.scene)
         edges = f", {len(result.edges):,} edges selected" if self.path_edges else ""
         self.report({"INFO"}, f"Geodesic path from vertex {result.source} to {result.target}: length "
-                              f"{result.length:.6g} {units}, {len(result.points):,} points in {result.curve.name!r}"
+                              f"{length}, {len(result.points):,} points in {result.curve.name!r}"
                               f"{edges} ({result.seconds:.2f} s)")
         return {"FINISHED"}

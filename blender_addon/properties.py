@@ -100,6 +100,8 @@ def option_property(name, front_end="blender"):
     limits = {k: v for k, v in limits.items() if v is not None}
     if opt.type is int:
         return IntProperty(**kw, **limits)
+    if "a length" in (opt.unit or ""):  # shown in the scene's units (weight_radius)
+        limits["subtype"] = "DISTANCE"
     return FloatProperty(**kw, **limits)
 
 
@@ -279,6 +281,7 @@ class HeatGeodesicStats(bpy.types.PropertyGroup):
     vertices: IntProperty()
     sources: IntProperty()
     max_distance: FloatProperty()
+    space: StringProperty(default="WORLD")
     seconds: FloatProperty()
     solver_seconds: FloatProperty()
     cached: BoolProperty()

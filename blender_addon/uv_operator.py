@@ -22,6 +22,7 @@ from mathutils import Vector
 
 from ._heatcore import heatcore
 from .adapters import AddonError
+from .legend import format_distance
 from .operator import options_from_panel, poll_editable_mesh
 from .properties import SHAPE_HELP, SHAPE_ITEMS, SPACE_HELP, SPACE_ITEMS, UVMapOptions, option_property, option_value
 from .uvmap import VECTOR_OPTIONS, geodesic_uv_map
@@ -95,8 +96,9 @@ class MESH_OT_heat_geodesic_uv_map(UVMapOptions, bpy.types.Operator):
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
         missed = f", {result.unreached:,} vertices unreached (UV 0, 0)" if result.unreached else ""
-        self.report({"INFO"}, f"UV map {result.name!r}: 1 UV unit = {result.unit:.4g}, farthest vertex "
-                              f"{result.max_distance:.4g} from the source{missed}, {result.seconds:.2f} s")
+        unit, far = (format_distance(value, self.space, context.scene) for value in (result.unit, result.max_distance))
+        self.report({"INFO"}, f"UV map {result.name!r}: 1 UV unit = {unit}, farthest vertex "
+                              f"{far} from the source{missed}, {result.seconds:.2f} s")
         return {"FINISHED"}
 
 

@@ -191,3 +191,34 @@ def test_shape_keys_object_mode_measures_the_mix_and_edit_mode_the_active_key(ad
     docs = (Path(__file__).resolve().parents[1] / "docs" / "blender.md").read_text()
     assert "Object Mode measures the shape keys as mixed" in docs
 
+
+
+# ---------------------------------------------------------------- units
+
+
+@pytest.fixture
+def imperial():
+    units = bpy.context.scene.unit_settings
+    before = units.system, units.scale_length
+    units.system, units.scale_length = "IMPERIAL", 1.0
+    yield units
+    units.system, units.scale_length = before
+
+
+def test_lengths_are_shown_in_scene_units(addon, imperial, capfd):
+    settings = bpy.context.scene.heat_geodesic
+    radius = settings.bl_rna.properties["weight_radius"]
+    assert radius.subtype == "DISTANCE" and radius.unit == "LENGTH"  # Blender shows it in scene units
+    obj = ico_sphere(3, radius=2.0)
+    select_only(obj, [0])
+    assert run(obj) == {"FINISHED"}
+    stats = bpy.context.window_manager.heat_geodesic_stats
+    shown = bpy.utils.units.to_string("IMPERIAL", "LENGTH", stats.max_distance, precision=4)
+    assert shown != f"{stats.max_distance:.4g}" and ("'" in shown or '"' in shown)  # feet and inches
+    out = capfd.readouterr()
+    assert f"max {shown}," in out.out + out.err
+    from test_blender_menus import draw
+
+    labels = [entry[2].get("text") for entry in draw(addon.panel.VIEW3D_PT_heat_geodesic) if entry[0] == "label"]
+    assert f"Max distance {shown}" in labels
+    assert addon.legend.format_distance(1.5, "LOCAL", bpy.context.scene) == "1.5 (object units)"
