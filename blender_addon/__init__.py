@@ -20,7 +20,9 @@ across undo), ``material`` (the isoline material), ``legend`` (its
 legend sub-panel), and the interactive tool: ``probe`` (:class:`GeodesicProbe`,
 sources at surface points, the field live), ``probe_surface`` (ray casting
 the displayed mesh), ``overlay`` (what it draws), ``curves`` (its path and isolines as curve objects) and
-``probe_tool`` (its modal operator and toolbar tools).
+``probe_tool`` (its modal operator and toolbar tools); ``tooltips`` (the options' tooltips for Blender users),
+``targets`` (the objects a click measures), ``redo`` (the operator's redo panel) and ``presets``
+(its presets).
 
 Examples
 --------
@@ -43,6 +45,7 @@ from . import (
     operator,
     panel,
     path_operator,
+    presets,
     probe_tool,
     properties,
     undo,
@@ -71,6 +74,7 @@ def register():
     panel.register()
     undo.register()
     menus.register()
+    presets.register()
 
 
 def unregister():

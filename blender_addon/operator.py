@@ -26,6 +26,7 @@ from .background import CANCELLED, FAILED, RUNNING, BackgroundBuild, Busy
 from .display import ProgressDisplay
 from .legend import format_distance
 from .properties import GeodesicOptions
+from .redo import draw_run_options
 from .stages import BUILD_RANGE, build_solver, check_unchanged, finish_run, prepare_run
 from .targets import skipped_message, target_objects
 
@@ -198,9 +199,12 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
 
     bl_idname = "mesh.heat_geodesic_distance"
     bl_label = "Geodesic Distance"
-    bl_options = {"REGISTER", "UNDO"}
+    bl_options = {"REGISTER", "UNDO", "PRESET"}  # presets: .presets (mask, falloff weights, isolines)
 
     poll = classmethod(poll_editable_mesh)
+
+    def draw(self, context):
+        draw_run_options(self.layout, self)  # the redo panel: grouped, without path_edges
 
     def invoke(self, context, event):
         options_from_panel(self, context, GeodesicOptions.__annotations__)

@@ -222,3 +222,68 @@ def test_lengths_are_shown_in_scene_units(addon, imperial, capfd):
     labels = [entry[2].get("text") for entry in draw(addon.panel.VIEW3D_PT_heat_geodesic) if entry[0] == "label"]
     assert f"Max distance {shown}" in labels
     assert addon.legend.format_distance(1.5, "LOCAL", bpy.context.scene) == "1.5 (object units)"
+
+
+# ---------------------------------------------------------------- redo panel
+
+
+class Recorder:
+    """Stands in for ``bpy.types.UILayout``: records the properties drawn, the labels, and the sections."""
+
+    def __init__(self, log, section=""):
+        self.log, self.section = log, section
+
+    def prop(self, data, name, **kw):
+        self.log.append((self.section, name))
+
+    def column(self, **kw):
+        return self
+
+    def label(self, text=""):
+        self.log.append((self.section, "label:" + text))
+
+    def panel(self, idname, default_closed=False):
+        return Recorder(self.log, "header"), Recorder(self.log, "advanced")
+
+
+def test_redo_panel_draws_what_matters_without_path_edges(addon):
+    op = bpy.ops.mesh.heat_geodesic_distance
+    cls = addon.operator.MESH_OT_heat_geodesic_distance
+    assert "PRESET" in cls.bl_options and callable(cls.draw)
+    settings = bpy.context.scene.heat_geodesic  # the operator's properties, with every switch on
+    settings.source, settings.write_weights, settings.isoline_material = "VERTEX_GROUP", True, True
+    try:
+        log = []
+        addon.redo.draw_run_options(Recorder(log), settings)
+    finally:
+        settings.source, settings.write_weights, settings.isoline_material = "SELECTED", False, False
+    drawn = [name for _, name in log if not name.startswith("label:")]
+    assert len(drawn) == len(set(drawn))
+    every = {p.identifier for p in op.get_rna_type().properties} - {"rna_type"}
+    assert set(drawn) == every - {"path_edges"}
+    assert [name for section, name in log if section == "advanced"] == list(addon.redo.ADVANCED)
+    log = []
+    addon.redo.draw_run_options(Recorder(log), settings)  # switches off: their rows are not shown
+    drawn = {name for _, name in log}
+    assert not drawn & {"vertex_group", "weight_radius", "weight_group", "isoline_spacing", "path_edges"}
+
+
+def test_presets_set_the_outputs_of_common_uses(addon, tmp_path):
+    import types
+
+    paths = addon.presets.write_presets(tmp_path)
+    assert [p.name for p in paths] == ["Mask.py", "Falloff_Weights.py", "Isolines.py"]
+    paths[0].write_text("# the user's own\n")
+    assert addon.presets.write_presets(tmp_path)[0].read_text() == "# the user's own\n"  # kept
+    settings = bpy.context.scene.heat_geodesic
+    stub = types.SimpleNamespace(context=types.SimpleNamespace(active_operator=settings))
+    try:
+        for path, expect in zip(paths[1:], ({"write_weights": True, "weight_falloff": "SMOOTH", "isolines": 0},
+                                           {"isolines": 10, "isoline_material": True, "write_weights": False})):
+            code = path.read_text().replace("import bpy\n", "")
+            exec(compile(code, str(path), "exec"), {"bpy": stub})
+            assert {name: getattr(settings, name) for name in expect} == expect
+    finally:
+        for name, value in addon.presets.OUTPUT_DEFAULTS.items():
+            setattr(settings, name, value)
+        settings.isolines = 10
