@@ -21,7 +21,8 @@ legend sub-panel), and the interactive tool: ``probe`` (:class:`GeodesicProbe`,
 sources at surface points, the field live), ``probe_surface`` (ray casting
 the displayed mesh), ``overlay`` (what it draws), ``curves`` (its path and isolines as curve objects) and
 ``probe_tool`` (its modal operator and toolbar tools); ``tooltips`` (the options' tooltips for Blender users),
-``targets`` (the objects a click measures), ``redo`` (the operator's redo panel) and ``presets``
+``targets`` (the objects a click measures), ``elements`` (selected faces and edges as sources),
+``select_operator`` (*Select › Within Geodesic Distance*), ``redo`` (the operator's redo panel) and ``presets``
 (its presets).
 
 Examples
@@ -48,6 +49,7 @@ from . import (
     presets,
     probe_tool,
     properties,
+    select_operator,
     undo,
     uv_operator,
 )
@@ -71,6 +73,7 @@ def register():
     bpy.utils.register_class(isoline_operator.MESH_OT_heat_geodesic_isoline_curves)
     bpy.utils.register_class(uv_operator.MESH_OT_heat_geodesic_uv_map)
     bpy.utils.register_class(path_operator.MESH_OT_heat_geodesic_path)
+    bpy.utils.register_class(select_operator.MESH_OT_heat_geodesic_select_within)
     panel.register()
     undo.register()
     menus.register()
@@ -83,6 +86,7 @@ def unregister():
     undo.unregister()
     panel.unregister()
     probe_tool.unregister()
+    bpy.utils.unregister_class(select_operator.MESH_OT_heat_geodesic_select_within)
     bpy.utils.unregister_class(uv_operator.MESH_OT_heat_geodesic_uv_map)
     bpy.utils.unregister_class(path_operator.MESH_OT_heat_geodesic_path)
     bpy.utils.unregister_class(isoline_operator.MESH_OT_heat_geodesic_isoline_curves)

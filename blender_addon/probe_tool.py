@@ -319,6 +319,7 @@ class MESH_OT_heat_geodesic_probe(bpy.types.Operator):
         settings = context.scene.heat_geodesic
         options = settings.call_options()
         options.pop("vertex_group")
+        options.pop("selected")  # the probe's sources are the points clicked
         if options.pop("new_object"):
             self.report({"WARNING"}, "Geodesic probe: measured on the object itself (Apply All Modifiers is off "
                                      "for the probe)")

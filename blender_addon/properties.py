@@ -69,6 +69,8 @@ SHAPE_HELP = "Which shape of the mesh is measured: as displayed (shape keys, def
 
 SOURCE_ITEMS = [
     ("SELECTED", "Selected Vertices", "Use the selected vertices as sources"),
+    ("EDGES", "Selected Edges", "Distance to the selected edges: 0 all along them, not only at their vertices"),
+    ("FACES", "Selected Faces", "Distance to the selected faces (a region): 0 inside it, measured from its border"),
     ("VERTEX_GROUP", "Vertex Group", "Use the members of a vertex group as sources"),
 ]
 
@@ -211,6 +213,7 @@ class GeodesicOptions:
         """Keyword arguments of :func:`compute_geodesic_distance` for these options."""
         return dict(
             vertex_group=self.vertex_group if self.source == "VERTEX_GROUP" else None,
+            selected=self.source if self.source in ("EDGES", "FACES") else "VERTICES",
             attribute=self.attribute,
             color_attribute=self.color_attribute,
             colormap=self.colormap,

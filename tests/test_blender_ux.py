@@ -287,3 +287,100 @@ def test_presets_set_the_outputs_of_common_uses(addon, tmp_path):
         for name, value in addon.presets.OUTPUT_DEFAULTS.items():
             setattr(settings, name, value)
         settings.isolines = 10
+
+
+# ---------------------------------------------------------------- sources: faces and edges
+
+
+def _select_elements(obj, faces=(), edges=()):
+    mesh = obj.data
+    for collection, chosen in ((mesh.polygons, faces), (mesh.edges, edges), (mesh.vertices, ())):
+        sel = np.zeros(len(collection), dtype=bool)
+        collection.foreach_set("select", sel)
+    for i in faces:
+        mesh.polygons[i].select = True
+    for i in edges:
+        mesh.edges[i].select = True
+    mesh.update()
+
+
+def test_selected_faces_are_the_core_region_on_triangles_and_polygons(addon):
+    import heatcore as hc
+
+    tri = ico_sphere(3)  # triangles: a TriangleMesh of the loop triangles
+    faces = [0, 1, 2, 7]
+    _select_elements(tri, faces=faces)
+    run(tri, source="FACES")
+    d = attribute(tri.data, "geodesic_distance")
+    V = np.array([v.co for v in tri.data.vertices])
+    F = np.array([p.vertices[:] for p in tri.data.polygons])
+    expected = hc.HeatSolver(hc.TriangleMesh(V, F, weld=None)).distance(region=faces)
+    np.testing.assert_allclose(d, expected, rtol=1e-5, atol=1e-6)
+    assert np.all(d[np.unique(F[faces])] == 0.0) and d.max() > 2.0
+
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=9, y_subdivisions=9, size=2.0)
+    quads = bpy.context.active_object  # quads: a PolygonMesh of Blender's faces
+    faces = [10, 11, 19, 20]
+    _select_elements(quads, faces=faces)
+    result = addon.compute_geodesic_distance(quads, selected="FACES", attribute=None, color_attribute=None)
+    V = np.array([v.co for v in quads.data.vertices])
+    polygons = [list(p.vertices) for p in quads.data.polygons]
+    expected = hc.HeatSolver(hc.PolygonMesh(V, polygons)).distance(region=faces)
+    np.testing.assert_allclose(result.distance, expected, rtol=1e-5, atol=1e-6)
+
+
+def test_selected_edges_are_the_core_edges(addon):
+    import heatcore as hc
+
+    obj = ico_sphere(3)
+    edges = [0, 5, 9]
+    _select_elements(obj, edges=edges)
+    run(obj, source="EDGES")
+    d = attribute(obj.data, "geodesic_distance")
+    V = np.array([v.co for v in obj.data.vertices])
+    F = np.array([p.vertices[:] for p in obj.data.polygons])
+    E = np.array([obj.data.edges[i].vertices[:] for i in edges])
+    expected = hc.HeatSolver(hc.TriangleMesh(V, F, weld=None)).distance(edges=E)
+    np.testing.assert_allclose(d, expected, rtol=1e-5, atol=1e-6)
+    vertex_only = addon.compute_geodesic_distance(obj, sources=np.unique(E), attribute=None, color_attribute=None)
+    assert not np.allclose(d, vertex_only.distance)  # along the edges, not only at their ends
+
+
+def test_no_selected_faces_is_an_error(addon):
+    obj = ico_sphere(2)
+    _select_elements(obj)
+    with pytest.raises(RuntimeError, match="no source faces"):
+        run(obj, source="FACES")
+    with pytest.raises(addon.AddonError, match="no source edges"):
+        addon.compute_geodesic_distance(obj, selected="EDGES")
+
+
+def test_select_within_geodesic_distance_grows_the_selection(addon):
+    obj = ico_sphere(3)
+    V = np.array([v.co for v in obj.data.vertices])
+    pole = int(np.argmax(V[:, 2]))
+    _select_elements(obj)  # nothing selected (edges and faces included), then the pole
+    select_only(obj, [pole])
+    d = addon.compute_geodesic_distance(obj, sources=[pole], attribute=None, color_attribute=None).distance
+    with bpy.context.temp_override(active_object=obj, object=obj):
+        assert not bpy.ops.mesh.heat_geodesic_select_within.poll()  # Edit Mode only
+        bpy.ops.object.mode_set(mode="EDIT")
+        try:
+            assert bpy.ops.mesh.heat_geodesic_select_within(distance=0.8) == {"FINISHED"}
+        finally:
+            bpy.ops.object.mode_set(mode="OBJECT")
+    selected = np.array([v.select for v in obj.data.vertices])
+    np.testing.assert_array_equal(np.flatnonzero(selected), np.flatnonzero(d <= 0.8))
+    assert 1 < selected.sum() < len(selected)
+    assert "geodesic_distance" not in obj.data.attributes  # only the selection changed
+    from test_blender_menus import draw, operators
+
+    with bpy.context.temp_override(active_object=obj, object=obj):
+        bpy.ops.object.mode_set(mode="EDIT")
+    try:
+        log = draw(bpy.types.VIEW3D_MT_select_edit_mesh)
+    finally:
+        with bpy.context.temp_override(active_object=obj, object=obj):
+            bpy.ops.object.mode_set(mode="OBJECT")
+    (entry,) = operators(log, "mesh.heat_geodesic_select_within")
+    assert entry[2]["text"] == "Within Geodesic Distance"
