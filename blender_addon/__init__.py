@@ -14,7 +14,8 @@ shows while it runs), ``properties``,
 ``operator``, ``panel`` (the sidebar panel and its *Advanced* sub-panel),
 ``isoline_operator`` (the *Isoline Curves* operator), ``path_operator`` and ``path_api``
 (the *Geodesic Path* operator and :func:`geodesic_path`), ``uvmap`` (:func:`geodesic_uv_map`,
-the *Geodesic UV Map* for scripts) and ``uv_operator`` (its operator), ``menus`` (entries in the Edit Mode, Object Mode and Weight Paint menus; F3
+the *Geodesic UV Map* for scripts) and ``uv_operator`` (its operator), ``signed`` (:func:`signed_distance_from_edges`,
+*Signed Distance from Edges* for scripts) and ``signed_operator`` (its operator), ``menus`` (entries in the Edit Mode, Object Mode and Weight Paint menus; F3
 finds them), ``shape`` (which shape is measured), ``undo`` (active color
 across undo), ``material`` (the isoline material), ``legend`` (its
 legend sub-panel), and the interactive tool: ``probe`` (:class:`GeodesicProbe`,
@@ -50,6 +51,7 @@ from . import (
     probe_tool,
     properties,
     select_operator,
+    signed_operator,
     undo,
     uv_operator,
 )
@@ -58,10 +60,11 @@ from .api import GeodesicResult, PathResult, compute_geodesic_distance, geodesic
 from .background import BackgroundBuild
 from .cache import SOLVERS
 from .probe import GeodesicProbe
+from .signed import SignedResult, signed_distance_from_edges
 from .uvmap import UVMapResult, geodesic_uv_map
 
 __all__ = ["compute_geodesic_distance", "GeodesicResult", "GeodesicProbe", "geodesic_path", "PathResult",
-           "geodesic_uv_map", "UVMapResult", "AddonError",
+           "geodesic_uv_map", "UVMapResult", "signed_distance_from_edges", "SignedResult", "AddonError",
            "register", "unregister"]
 
 
@@ -74,6 +77,7 @@ def register():
     bpy.utils.register_class(uv_operator.MESH_OT_heat_geodesic_uv_map)
     bpy.utils.register_class(path_operator.MESH_OT_heat_geodesic_path)
     bpy.utils.register_class(select_operator.MESH_OT_heat_geodesic_select_within)
+    bpy.utils.register_class(signed_operator.MESH_OT_heat_signed_distance)
     panel.register()
     undo.register()
     menus.register()
@@ -88,6 +92,7 @@ def unregister():
     probe_tool.unregister()
     bpy.utils.unregister_class(select_operator.MESH_OT_heat_geodesic_select_within)
     bpy.utils.unregister_class(uv_operator.MESH_OT_heat_geodesic_uv_map)
+    bpy.utils.unregister_class(signed_operator.MESH_OT_heat_signed_distance)
     bpy.utils.unregister_class(path_operator.MESH_OT_heat_geodesic_path)
     bpy.utils.unregister_class(isoline_operator.MESH_OT_heat_geodesic_isoline_curves)
     bpy.utils.unregister_class(operator.MESH_OT_heat_geodesic_distance)

@@ -184,7 +184,8 @@ class Placement(namedtuple("Placement", "matrix scale")):
         """A ``heatcore.GeodesicPath`` of the solver, its points and length in the run's coordinates and units."""
         if self.matrix is None:
             return path
-        return dataclasses.replace(path, points=self.points(path.points), length=self.distance(path.length))
+        return dataclasses.replace(path, points=self.points(path.points), length=self.distance(path.length),
+                                   leg_lengths=self.distance(np.asarray(path.leg_lengths)))
 
 
 #: The placement of a solver in the run it was built for.

@@ -20,6 +20,7 @@ from .operator import MESH_OT_heat_geodesic_distance
 from .path_operator import MESH_OT_heat_geodesic_path
 from .probe_tool import MESH_OT_heat_geodesic_probe
 from .select_operator import MESH_OT_heat_geodesic_select_within
+from .signed_operator import MESH_OT_heat_signed_distance
 from .uv_operator import MESH_OT_heat_geodesic_uv_map
 
 OPERATOR = MESH_OT_heat_geodesic_distance.bl_idname
@@ -41,6 +42,9 @@ UV_ICON = "UV"
 #: *Within Geodesic Distance* (grow the selection), first of our entries in the Edit Mode *Select* menu.
 SELECT_OPERATOR = MESH_OT_heat_geodesic_select_within.bl_idname
 SELECT_MENU = "VIEW3D_MT_select_edit_mesh"
+#: *Signed Distance from Edges*, at the end of the Edit Mode *Edge* menu and the context menu (:data:`SIGNED_ENTRIES`).
+SIGNED_OPERATOR = MESH_OT_heat_signed_distance.bl_idname
+SIGNED_ICON = "MOD_MASK"
 #: Marker attribute of our draw functions (finds entries left by an earlier copy of the module).
 MARK = "_heat_geodesic_entry"
 
@@ -91,22 +95,26 @@ ENTRIES = (
 
 
 
-def _uv_entry(menu):
-    """A draw function adding the *Geodesic UV Map* (invoked: the panel's options, the view's up) to ``menu``."""
+def _single_entry(menu, operator, text, icon, kind):
+    """A draw function adding one operator's entry (invoked: the panel's options) to ``menu``."""
 
     def draw(self, context):
         self.layout.separator()
         self.layout.operator_context = "INVOKE_REGION_WIN"
-        self.layout.operator(UV_OPERATOR, text="Geodesic UV Map", icon=UV_ICON)
+        self.layout.operator(operator, text=text, icon=icon)
 
-    draw.__name__ = draw.__qualname__ = f"draw_heat_geodesic_uv_{menu}"
+    draw.__name__ = draw.__qualname__ = f"draw_heat_{kind}_{menu}"
     setattr(draw, MARK, menu)
     return draw
 
 
-#: Menus that hold only the *Geodesic UV Map*: the Edit Mode *UV* menu (U), beside Smart UV Project and
-#: Project from View.
-UV_ENTRIES = (("VIEW3D_MT_uv_map", _uv_entry("VIEW3D_MT_uv_map")),)
+#: Menus that hold only the *Geodesic UV Map* (invoked: the panel's options, the view's up): the Edit Mode
+#: *UV* menu (U), beside Smart UV Project and Project from View.
+UV_ENTRIES = (("VIEW3D_MT_uv_map", _single_entry("VIEW3D_MT_uv_map", UV_OPERATOR, "Geodesic UV Map", UV_ICON,
+                                                 "geodesic_uv")),)
+#: Menus with *Signed Distance from Edges*: the Edit Mode *Edge* menu (Ctrl E).
+SIGNED_ENTRIES = (("VIEW3D_MT_edit_mesh_edges", _single_entry("VIEW3D_MT_edit_mesh_edges", SIGNED_OPERATOR,
+                                                              "Signed Distance from Edges", SIGNED_ICON, "signed")),)
 
 
 def ours(menu):
@@ -130,7 +138,7 @@ def register():
     >>> len(ours("VIEW3D_MT_object"))  # doctest: +SKIP
     1
     """
-    for menu, draw in ENTRIES + UV_ENTRIES:
+    for menu, draw in ENTRIES + UV_ENTRIES + SIGNED_ENTRIES:
         cls = getattr(bpy.types, menu)
         for old in ours(menu):
             cls.remove(old)
@@ -146,7 +154,7 @@ def unregister():
     >>> ours("VIEW3D_MT_object")  # doctest: +SKIP
     []
     """
-    for menu, _ in reversed(ENTRIES + UV_ENTRIES):
+    for menu, _ in reversed(ENTRIES + UV_ENTRIES + SIGNED_ENTRIES):
         cls = getattr(bpy.types, menu)
         for old in ours(menu):
             cls.remove(old)

@@ -1,14 +1,15 @@
-"""Script API of geodesic paths: the shortest path between two vertices as a curve object.
+"""Script API of geodesic paths: the shortest path between two vertices, or through waypoints, as a curve object.
 
 :func:`geodesic_path` measures on the shape the user sees (the same
 :func:`~.stages.prepare_run` as the distance, so the cached solver is reused),
 calls ``HeatSolver.geodesic_path`` and writes the curve object
 ``"<name> Geodesic Path"`` (:func:`~.curves.write_curves`: one poly spline,
-world coordinates, reused on re-runs, the probe's path curve too). The two
-ends are given, or read from Edit Mode: exactly two selected vertices, the
-active one the source. ``select_edges`` also selects the mesh edges along
-the path (:func:`heatcore.paths.edge_chain`: the shortest chain of edges
-among the faces the path crosses).
+world coordinates, reused on re-runs, the probe's path curve too). The ends
+are given, or read from Edit Mode: two selected vertices, the active one the
+source; or three and more, shift-clicked one by one, visited in the order
+they were selected (``closed``: back to the first). ``select_edges`` also
+selects the mesh edges along the path (:func:`heatcore.paths.edge_chain`: the
+shortest chain of edges among the faces each leg crosses).
 
 Examples
 --------
@@ -51,7 +52,11 @@ class PathResult:
     path : heatcore.GeodesicPath
         heatcore's path in the measured coordinates (``faces`` are the mesh's loop triangles).
     source, target : int
-        The end vertices.
+        The end vertices (for a closed path, both the first waypoint).
+    waypoints : list of int
+        The vertices the path passes through, in order (the two ends for a plain path).
+    leg_lengths : (w - 1,) float array
+        The length of each leg between consecutive waypoints, in the units of ``space``.
     edges : (j,) int array
         The mesh edges selected (``select_edges``), in order from the source; empty otherwise.
     seconds : float
@@ -73,6 +78,8 @@ class PathResult:
     path: object
     source: int
     target: int
+    waypoints: list
+    leg_lengths: np.ndarray
     edges: np.ndarray
     seconds: float
     cached: bool
@@ -80,39 +87,50 @@ class PathResult:
 
 
 def selected_ends(obj):
-    """The source (the active vertex) and the target (the other selected one) of ``obj`` in Edit Mode.
+    """The vertices a path from the Edit Mode selection visits: ``[source, target]``, or the waypoints in order.
+
+    Two selected vertices: the active one (selected last) is the source.
+    Three or more: each must have been clicked (Blender's selection history
+    holds what was clicked, not what was box-selected), and they are visited in
+    the order they were clicked.
 
     Raises
     ------
     AddonError
-        Not in Edit Mode, not exactly two selected vertices, or the active
-        element is not one of them.
+        Not in Edit Mode; fewer than two selected vertices; two without the
+        active one among them; more than two not all clicked one by one.
 
     Examples
     --------
     >>> selected_ends(bpy.context.edit_object)   # doctest: +SKIP
-    (12, 40)
+    [12, 40]
     """
     if obj.mode != "EDIT":
         raise AddonError(f"Geodesic Path reads the two ends from Edit Mode and {obj.name!r} is in {obj.mode.title()} "
                          "Mode: Tab into Edit Mode, select the target, then Shift-click the source (the active vertex)")
     obj.update_from_editmode()
     selected = selected_vertices(obj.data)
-    if len(selected) != 2:
-        raise AddonError(f"select exactly two vertices of {obj.name!r} (the active one is the source): "
-                         f"{len(selected):,} are selected")
+    if len(selected) < 2:
+        raise AddonError(f"select two vertices of {obj.name!r} (the active one is the source), or Shift-click "
+                         f"three or more waypoints in order: {len(selected):,} selected")
     bm = bmesh.from_edit_mesh(obj.data)
-    active = bm.select_history.active
-    if isinstance(active, bmesh.types.BMVert):
-        bm.verts.index_update()  # the indices of the synced mesh
-    if not isinstance(active, bmesh.types.BMVert) or active.index not in selected:
+    bm.verts.index_update()  # the indices of the synced mesh
+    history = [e.index for e in bm.select_history if isinstance(e, bmesh.types.BMVert)]
+    if len(selected) > 2:
+        if sorted(set(history)) != sorted(selected.tolist()):
+            raise AddonError(f"{len(selected):,} vertices of {obj.name!r} are selected but not all one by one: "
+                             "Shift-click the waypoints in the order the path visits them (a box or loop "
+                             "selection has no order)")
+        return history
+    active = history[-1] if history else None
+    if active is None or active not in selected:
         raise AddonError(f"no active vertex among the two selected vertices of {obj.name!r}: Shift-click the source "
                          "last so that it is the active one (the path runs from it to the other)")
-    return int(active.index), int(selected[selected != active.index][0])
+    return [int(active), int(selected[selected != active][0])]
 
 
 def _edge_chain(obj, V, path, source, target):
-    """Mesh edges along ``path``: the shortest chain among the vertices of the polygons it crosses."""
+    """Mesh edges along one leg ``path``: the shortest chain among the vertices of the polygons it crosses."""
     mesh = obj.data
     corner_verts, triangle_faces = topology(mesh)
     totals = np.empty(len(mesh.polygons), dtype=np.int64)
@@ -147,17 +165,22 @@ def _select_edges(obj, edge_ids):
     mesh.update()
 
 
-def geodesic_path(obj, source=None, target=None, *, select_edges=False, space="WORLD", shape="EVALUATED",
-                  progress=None, **solver_options):
-    """The geodesic path from vertex ``source`` to vertex ``target`` of a mesh object, written as a curve object.
+def geodesic_path(obj, source=None, target=None, *, waypoints=None, closed=False, select_edges=False, space="WORLD",
+                  shape="EVALUATED", progress=None, **solver_options):
+    """The geodesic path from vertex ``source`` to vertex ``target`` (or through ``waypoints``), as a curve object.
 
     Parameters
     ----------
     obj : bpy.types.Object
         A mesh object with faces.
     source, target : int, optional
-        Vertex indices. Default (both None): in Edit Mode, the two selected
-        vertices, the active one (selected last) the source.
+        Vertex indices. Default (both None, no waypoints): from Edit Mode,
+        two selected vertices (the active one the source), or three and more
+        clicked one by one, in that order (:func:`selected_ends`).
+    waypoints : sequence of int, optional
+        The vertices to pass through, in order (instead of ``source`` and ``target``).
+    closed : bool
+        Return from the last waypoint to the first: a closed loop.
     select_edges : bool
         Also add to the selection the mesh edges along the path: the shortest
         chain of edges (by length) from the source to the target among the
@@ -194,10 +217,17 @@ def geodesic_path(obj, source=None, target=None, *, select_edges=False, space="W
         raise AddonError(f"Geodesic Path needs a mesh object; {getattr(obj, 'name', obj)!r} is not one")
     if (source is None) != (target is None):
         raise AddonError("give both the source and the target vertex, or neither (then the Edit Mode selection)")
-    if source is None:
-        source, target = selected_ends(obj)
-    elif obj.mode == "EDIT":
-        obj.update_from_editmode()
+    if waypoints is not None and source is not None:
+        raise AddonError("give the waypoints, or the source and the target, not both")
+    if waypoints is None and source is None:
+        waypoints = selected_ends(obj)  # synced with Edit Mode
+    else:
+        waypoints = [source, target] if waypoints is None else list(waypoints)
+        if obj.mode == "EDIT":
+            obj.update_from_editmode()
+    waypoints = [int(v) for v in waypoints]
+    if len(waypoints) < 2:
+        raise AddonError(f"a path needs two vertices or more, got {len(waypoints)}")
     if not len(obj.data.polygons):
         raise AddonError(f"Geodesic Path runs on faces and mesh {obj.data.name!r} has none")
     run = prepare_run(obj, sources_later=True, space=space, shape=shape, progress=progress,
@@ -208,12 +238,15 @@ def geodesic_path(obj, source=None, target=None, *, select_edges=False, space="W
         build_solver(run, progress)
         SOLVERS.store(run.cache_id, run.key, run.solver)
     try:
-        path = run.placement.path(run.solver.geodesic_path(int(source), int(target)))
+        if len(waypoints) == 2 and not closed:
+            path = run.placement.path(run.solver.geodesic_path(*waypoints))
+        else:
+            path = run.placement.path(run.solver.geodesic_path(points=waypoints, closed=closed))
     except heatcore.InvalidSourceError as exc:  # a bad index, a loose vertex, another part
         raise AddonError(f"{obj.name}: {exc}") from None
     edge_ids = np.zeros(0, dtype=np.int64)
     if select_edges:
-        _, edge_ids = _edge_chain(obj, run.V, path, int(source), int(target))
+        edge_ids = _leg_edges(obj, run, waypoints, closed)
     points = np.asarray(path.points, dtype=np.float64)
     if run.space == "LOCAL":
         M = np.array(obj.matrix_world, dtype=np.float64)
@@ -221,5 +254,14 @@ def geodesic_path(obj, source=None, target=None, *, select_edges=False, space="W
     curve = write_curves(obj, "Path", [points])
     if select_edges:
         _select_edges(obj, edge_ids)
-    return PathResult(curve, float(path.length), points, path, int(source), int(target), edge_ids,
-                      time.perf_counter() - start, run.cached, list(run.notes))
+    return PathResult(curve, float(path.length), points, path, waypoints[0], waypoints[0] if closed else waypoints[-1],
+                      waypoints, np.asarray(path.leg_lengths, dtype=np.float64), edge_ids, time.perf_counter() - start,
+                      run.cached, list(run.notes))
+
+
+def _leg_edges(obj, run, waypoints, closed):
+    """The mesh edges along each leg (:func:`_edge_chain` of the leg's own path), in order."""
+    stops = waypoints + waypoints[:1] if closed else waypoints
+    chains = [_edge_chain(obj, run.V, run.placement.path(run.solver.geodesic_path(a, b)), a, b)[1]
+              for a, b in zip(stops[:-1], stops[1:])]
+    return np.concatenate(chains) if chains else np.zeros(0, dtype=np.int64)

@@ -27,7 +27,7 @@ from .errors import (
     UnsupportedDomainError,
 )
 from .heat import HeatSolver
-from .paths import GeodesicPath, TracedPath, trace_geodesic
+from .paths import GeodesicPath, TracedPath, straighten_loop, straighten_path, trace_geodesic
 from .preview import CoarsePreview
 from .domains.edge_curves import edge_curves, region_boundary_curves
 from .settings import MeshSettings, OutputSettings, Settings, SolverSettings
@@ -69,6 +69,8 @@ __all__ = [
     "options",
     "region_boundary_curves",
     "settings",
+    "straighten_loop",
+    "straighten_path",
     "trace_geodesic",
 ]
 

@@ -122,8 +122,7 @@ def isoline_levels(values, count):
     >>> isoline_levels([-1.0, 3.0], 1).tolist()
     [1.0]
     """
-    if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 0:
-        raise InvalidOptionError(f"the number of isolines must be a non-negative integer, got {count!r}")
+    _check_count(count)
     v = np.asarray(values, dtype=float).ravel()
     v = v[np.isfinite(v)]
     if count == 0 or v.size == 0:
@@ -151,14 +150,18 @@ def signed_levels(values, count):
     >>> signed_levels([-1.0, 0.5, 3.0], 2).tolist()
     [-2.0, -1.0, 0.0, 1.0, 2.0]
     """
-    if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 0:
-        raise InvalidOptionError(f"the number of isolines must be a non-negative integer, got {count!r}")
+    _check_count(count)
     v = np.abs(np.asarray(values, dtype=float).ravel())
     v = v[np.isfinite(v)]
     vmax = float(v.max()) if v.size else 0.0
     if not vmax > 0:
         return np.zeros(1)
     return vmax * np.arange(-count, count + 1) / (count + 1)
+
+
+def _check_count(count):
+    if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 0:
+        raise InvalidOptionError(f"the number of isolines must be a non-negative integer, got {count!r}")
 
 
 def isolines(V, F, values, levels):

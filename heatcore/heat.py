@@ -32,7 +32,7 @@ import numpy as np
 
 from .domains.parts import edge_graph, first_of_each, hop_diameters, vertex_components
 from .domains.sources import SourcePins, source_keywords
-from .errors import UnsupportedDomainError
+from .errors import InvalidSourceError, UnsupportedDomainError
 from .high_accuracy import high_accuracy_distance, high_accuracy_needs_heat
 from .progress import Progress
 from .settings import SolverSettings
@@ -383,8 +383,8 @@ class HeatSolver:
         """The index (into ``sources``) of the nearest source at every vertex: :func:`heatcore.voronoi.nearest_source`."""
         return nearest_source(self, sources, return_distance=return_distance, max_memory_mb=max_memory_mb)
 
-    def geodesic_path(self, source, target, *, both_ends=True):
-        """The shortest path on the surface from ``source`` to ``target`` (triangle meshes).
+    def geodesic_path(self, source=None, target=None, *, points=None, closed=False, both_ends=True):
+        """The shortest path on the surface from ``source`` to ``target``, or through ``points`` (triangle meshes).
 
         Parameters
         ----------
@@ -392,6 +392,12 @@ class HeatSolver:
             A vertex index, or a surface point ``(face, barycentric)``: a face
             index of the input mesh and three barycentric coordinates (>= 0,
             summing to 1).
+        points : sequence, optional
+            Waypoints instead of ``source`` and ``target`` (each a vertex or
+            ``(face, barycentric)``): one path, a geodesic from each waypoint
+            to the next (:mod:`heatcore.paths.waypoints`).
+        closed : bool, default False
+            With ``points``: a last leg back to the first waypoint.
         both_ends : bool, default True
             Also descend on the distance from ``target`` (a second query,
             kept for the next path) and keep the shorter result. False: one
@@ -403,8 +409,9 @@ class HeatSolver:
         -------
         GeodesicPath
             ``points`` from ``source`` to ``target`` on the input faces,
-            ``faces``/``edges``/``vertices`` crossed and ``length``. The same
-            point twice gives a one-point path of length 0.
+            ``faces``/``edges``/``vertices`` crossed, ``length``, and per leg
+            ``leg_lengths`` and ``waypoints`` (indices into ``points``). The
+            same point twice gives a one-point path of length 0.
 
         Raises
         ------
@@ -424,8 +431,38 @@ class HeatSolver:
         heat distance's error of each other (docs/paths.md has the figures).
         """
         from .paths.path import geodesic_path  # paths import this module
+        from .paths.waypoints import waypoint_path
 
+        if points is not None:
+            if source is not None or target is not None:
+                raise InvalidSourceError("give either source and target or points, not both")
+            return waypoint_path(self, points, closed, both_ends)
+        if source is None or target is None:
+            raise InvalidSourceError("a path needs a source and a target, or points")
         return geodesic_path(self, source, target, both_ends)
+
+    def straighten_path(self, path):
+        """Shorten a path on the surface, ends and homotopy class kept, to a locally shortest geodesic (triangle meshes).
+
+        ``path``: vertex indices joined by edges, or a path object with
+        ``points`` and ``faces`` (a :class:`~heatcore.GeodesicPath`, a
+        :class:`~heatcore.TracedPath`). Returns a :class:`~heatcore.GeodesicPath`;
+        see :func:`heatcore.straighten_path` and docs/paths.md. No query of
+        the factorizations: the straightening reads only the mesh.
+        """
+        from .paths.drawn import straighten_on  # paths import this module
+
+        return straighten_on(self.domain, path)
+
+    def straighten_loop(self, loop):
+        """Shorten a closed curve on the surface to a closed geodesic in its class (triangle meshes).
+
+        ``loop`` as ``path`` of :meth:`straighten_path`, closed by the edge
+        back to its first vertex if it is not. See :func:`heatcore.straighten_loop`.
+        """
+        from .paths.drawn import straighten_loop_on  # paths import this module
+
+        return straighten_loop_on(self.domain, loop)
 
     def trace(self, start, direction, length):
         """The straightest path on the surface from ``start`` along ``direction`` for ``length`` (triangle meshes).

@@ -4,6 +4,7 @@
 - :func:`uv_sphere`: a unit sphere of latitude rings, the equator one of them;
 - :func:`icosphere`: a subdivided icosahedron on the unit sphere (no vertex on the equator);
 - :func:`torus`: a grid torus, and its vertex grid (a loop around the tube is a column);
+- :func:`closed`, :func:`broken`: a closed curve, and the same in pieces with gaps;
 - :func:`level_curve`: where a function of the vertices crosses 0 on the edges, as surface points
   ``(face, barycentric)`` in order, with the same points as potpourri3d's edge points.
 """
@@ -24,7 +25,7 @@ def disc(rings=30, seed=0):
     rng = np.random.default_rng(seed)
     points = [[0.0, 0.0]]
     for r in np.linspace(1 / rings, 1, rings):
-        k = max(6, int(round(2 * np.pi * r * rings)))
+        k = max(6, round(2 * np.pi * r * rings))
         a = np.linspace(0, 2 * np.pi, k, endpoint=False) + rng.uniform(0, 2 * np.pi)
         points += list(np.c_[r * np.cos(a), r * np.sin(a)])
     P = np.array(points)
@@ -114,6 +115,18 @@ def level_curve(V, F, values, angle):
     return points, gc_points
 
 
+def closed(points):
+    """A closed curve of ``points``: the first repeated at the end."""
+    return list(points) + [points[0]]
+
+
+def broken(points, pieces=4, gap=0.1):
+    """A closed curve of ``points`` broken into ``pieces``, leaving out ``gap`` of each piece's share at its end."""
+    n = len(points)
+    return [[points[i % n] for i in range(int(k * n / pieces), int((k + 1 - gap) * n / pieces) + 1)]
+            for k in range(pieces)]
+
+
 def mean_error(phi, exact, scale=1.0):
     """Mean absolute error over the vertices, relative to ``scale``."""
     return float(np.mean(np.abs(phi - exact)) / scale)
@@ -138,10 +151,10 @@ def sphere_cloud(n=3000, n_equator=96):
 def disc_cloud(R=0.55, spacing=0.05):
     """Points on a flat unit disc in rings ``spacing`` apart, one of them at radius ``R``; and that ring's
     indices counter-clockwise (inside on the left, seen from +z), closed."""
-    radii = np.r_[np.linspace(0, R, int(round(R / spacing)) + 1)[1:], np.linspace(R, 1, int(round((1 - R) / spacing)) + 1)[1:]]
+    radii = np.r_[np.linspace(0, R, round(R / spacing) + 1)[1:], np.linspace(R, 1, round((1 - R) / spacing) + 1)[1:]]
     points, loop = [[0.0, 0.0, 0.0]], None
     for r in radii:
-        k = int(round(2 * np.pi * r / spacing))
+        k = round(2 * np.pi * r / spacing)
         a = np.linspace(0, 2 * np.pi, k, endpoint=False)
         if abs(r - R) < 1e-12:
             loop = list(range(len(points), len(points) + k))

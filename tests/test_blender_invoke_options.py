@@ -1,6 +1,6 @@
 """From the UI (``invoke``) each operator takes the panel's value of every option the call leaves unset.
 
-The three operators share one helper (``operator.options_from_panel``). A
+The operators share one helper (``operator.options_from_panel``). A
 headless Blender never calls ``invoke`` (``bpy.ops`` runs ``execute``), so each
 operator's ``invoke`` runs here on a stand-in for the operator: one option
 given, the panel holding other values.
@@ -17,6 +17,7 @@ OPERATORS = [
     ("operator", "MESH_OT_heat_geodesic_distance"),
     ("path_operator", "MESH_OT_heat_geodesic_path"),
     ("uv_operator", "MESH_OT_heat_geodesic_uv_map"),
+    ("signed_operator", "MESH_OT_heat_signed_distance"),
 ]
 
 

@@ -13,16 +13,17 @@ import numpy as np
 import pytest
 from test_blender import addon, attribute, empty_scene, ico_sphere, run, select_only  # noqa: F401 (fixtures)
 
-#: The add-on's operators (``bpy.ops.mesh.<name>``).
+#: The add-on's operators (``bpy.ops.mesh.<name>``) that every test here knows of; the tooltip test walks them all.
 OPERATORS = ("heat_geodesic_distance", "heat_geodesic_isoline_curves", "heat_geodesic_probe", "heat_geodesic_path",
-             "heat_geodesic_uv_map")
+             "heat_geodesic_uv_map", "heat_geodesic_select_within")
 #: Properties every Blender property group has, with Blender's own tooltip.
 BUILT_IN = {"rna_type", "name"}
 
 
 def registered_properties():
     """(owner, property) of every property a user can meet: the operators' and the scene settings'."""
-    owners = [(op, getattr(bpy.ops.mesh, op).get_rna_type()) for op in OPERATORS]
+    ours = sorted({*OPERATORS, *(name for name in dir(bpy.ops.mesh) if name.startswith("heat_"))})
+    owners = [(op, getattr(bpy.ops.mesh, op).get_rna_type()) for op in ours]
     owners.append(("scene.heat_geodesic", bpy.context.scene.heat_geodesic.bl_rna))
     return [(owner, prop) for owner, rna in owners for prop in rna.properties if prop.identifier not in BUILT_IN]
 

@@ -8,7 +8,7 @@ import heatcore as hc
 from heatcore.errors import InvalidOptionError, InvalidSourceError
 
 pymeshlab = pytest.importorskip("pymeshlab")
-from heatcore.apps.meshlab_signed import signed_distance_from_selection  # noqa: E402
+from heatcore.apps.meshlab_signed import signed_distance_from_selection
 
 
 def _meshset(V, F):
@@ -25,7 +25,7 @@ def test_disc_selection_inside_positive():
     stats = signed_distance_from_selection(ms, refine=0, isolines=3)
     mesh = ms.current_mesh()
     assert stats["curves"] == 1 and stats["faces_selected"] == int((centre < 0.55).sum())
-    (loop,) = hc.region_boundary_curves(F, np.flatnonzero(mesh.face_selection_array()))
+    (loop,) = hc.region_boundary_curves(F, np.flatnonzero(mesh.face_selection_array()), mesh_boundary=False)
     expected = hc.SignedHeatSolver(hc.TriangleMesh(V, F, refine=0)).distance([[int(v) for v in loop]])
     np.testing.assert_allclose(stats["distance"], expected, rtol=1e-9, atol=1e-12)
     np.testing.assert_allclose(mesh.vertex_scalar_array(), expected, rtol=1e-9, atol=1e-12)
@@ -37,6 +37,19 @@ def test_disc_selection_inside_positive():
     colors = mesh.vertex_color_matrix()
     inside, outside = np.argmin(r), np.argmax(r)
     assert colors[inside, 0] > colors[inside, 2] and colors[outside, 2] > colors[outside, 0]
+
+
+def test_half_disc_selection_is_bounded_by_its_open_border():
+    """Faces right of x = 0 selected: the border is the chain across the disc (the disc's rim is no curve)."""
+    V, F = sc.disc()
+    ms = _meshset(V, F)
+    ms.compute_selection_by_condition_per_face(condselect="(x0+x1+x2)/3 > 0")
+    stats = signed_distance_from_selection(ms, refine=0)
+    assert stats["curves"] == 1
+    d, x = stats["distance"], V[:, 0]
+    far = np.abs(x) > 0.1
+    assert (np.sign(d[far]) == np.sign(x[far])).all()
+    assert np.abs(d - x).mean() < 0.03  # a zigzag of edges about x = 0
 
 
 def test_no_selection_or_no_boundary_is_an_error_and_leaves_the_mesh():

@@ -74,6 +74,12 @@ from .reporting import (
     timed_stage,
 )
 from .signed_command import SIGNED_DESCRIPTION, SIGNED_HELP, run_signed, signed_arguments
+from .straighten_command import (
+    STRAIGHTEN_DESCRIPTION,
+    STRAIGHTEN_HELP,
+    run_straighten,
+    straighten_arguments,
+)
 from .trace_command import TRACE_DESCRIPTION, TRACE_HELP, run_trace, trace_arguments
 
 log = logging.getLogger("heatcore.apps.cli")
@@ -328,6 +334,8 @@ command("logmap", arguments=logmap_arguments,
 command("path", arguments=path_arguments, help=PATH_HELP, description=PATH_DESCRIPTION)(run_path)
 command("trace", arguments=trace_arguments, help=TRACE_HELP, description=TRACE_DESCRIPTION)(run_trace)
 command("signed", arguments=signed_arguments, help=SIGNED_HELP, description=SIGNED_DESCRIPTION)(run_signed)
+command("straighten", arguments=straighten_arguments, help=STRAIGHTEN_HELP,
+        description=STRAIGHTEN_DESCRIPTION)(run_straighten)
 
 
 # --------------------------------------------------------------------------- batch

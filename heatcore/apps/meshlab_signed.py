@@ -1,7 +1,8 @@
 """The MeshLab-style signed filter: signed distance to the boundary of a :class:`pymeshlab.MeshSet`'s selected faces.
 
 :func:`signed_distance_from_selection` takes the selected faces of the current
-mesh as a region; its boundary loops are the curves of the signed heat method
+mesh as a region; its border (the sides it shares with faces outside it: not
+the mesh's own boundary) makes the curves of the signed heat method
 (:class:`heatcore.SignedHeatSolver`), oriented with the region on their left,
 so the field is positive inside the selection and negative outside. It is
 written as vertex quality and as a custom vertex scalar attribute, and the
@@ -99,7 +100,7 @@ def signed_distance_from_selection(ms, *, m=1.0, boundary="robin", backend="auto
     region = np.flatnonzero(mesh.face_selection_array())
     if region.size == 0:
         raise InvalidSourceError("no face is selected: the signed distance is to the boundary of the selected faces")
-    loops = region_boundary_curves(F, region)
+    loops = region_boundary_curves(F, region, mesh_boundary=False)
     if not loops:
         raise InvalidSourceError("the selected faces have no boundary (they cover whole closed parts): nothing to "
                                  "measure a signed distance to")

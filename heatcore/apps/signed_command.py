@@ -40,7 +40,12 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InvalidMeshError
-from .arguments import add_common_options, add_output_options, add_solver_options, settings_of
+from .arguments import (
+    add_common_options,
+    add_output_options,
+    add_solver_options,
+    settings_of,
+)
 from .inputs import read_mesh_file
 from .outputs import (
     UsageError,

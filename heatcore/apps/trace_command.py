@@ -34,11 +34,16 @@ import logging
 from pathlib import Path
 
 from .. import options
-from ..errors import InvalidMeshError
-from .arguments import add_common_options, settings_of, solver_option_names
-from .inputs import read_mesh_file
-from .outputs import CliError, UsageError, same_file
-from .path_command import PATH_SUFFIXES, surface_point, write_path
+from .arguments import add_common_options, solver_option_names
+from .outputs import UsageError
+from .path_command import surface_point
+from .polylines import (
+    add_polyline_arguments,
+    check_outputs,
+    count_points,
+    read_domain,
+    write_outputs,
+)
 from .reporting import timed_stage
 
 log = logging.getLogger("heatcore.apps.cli")
@@ -88,7 +93,7 @@ def trace_arguments(p):
     >>> args.start, args.direction, args.length
     ((5, [0.2, 0.3, 0.5]), [1.0, 0.0, 0.0], 2.0)
     """
-    p.add_argument("mesh", type=Path, metavar="MESH", help="triangle (or polygon) mesh file: OBJ, PLY, OFF, STL, ...")
+    add_polyline_arguments(p)
     p.add_argument("--from", dest="start", type=surface_point, required=True, metavar="POINT",
                    help="where the trace starts: a vertex index, or FACE:B0,B1,B2 for a point inside a face")
     p.add_argument("--direction", type=float, nargs="+", required=True, metavar="X",
@@ -96,10 +101,6 @@ def trace_arguments(p):
                         "the start vertex's tangent basis (the vector heat method's); its length does not matter")
     p.add_argument("--length", type=length_value, required=True, metavar="L",
                    help="how far to go, in mesh units (the trace stops earlier at the boundary)")
-    p.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
-                   help="polyline file, format by extension: .obj (v and l elements), .ply (vertex and edge "
-                        "elements), .csv (x,y,z); repeat for several. Written whole or not at all")
-    p.add_argument("--overwrite", action="store_true", help="allow an output to replace the mesh file")
     add_mesh_options(p)
     add_common_options(p)
 
@@ -144,51 +145,15 @@ def run_trace(args):
         raise UsageError(f"--direction takes 3 numbers (X Y Z) or 2 (X Y in the tangent basis), got "
                          f"{len(args.direction)}")
     check_outputs(args.output, args.mesh, args.overwrite)
-    with timed_stage("read mesh"):
-        mesh = read_mesh_file(args.mesh)
+    domain, _ = read_domain(args)
     from ..paths.tracing import trace
 
-    settings = settings_of(args)
-    try:
-        with timed_stage("prepare"):
-            domain = mesh.domain(settings.mesh)
-    except InvalidMeshError as exc:
-        raise InvalidMeshError(f"{args.mesh}: {exc}") from exc
     with timed_stage("trace"):
         path = trace(domain, args.start, args.direction, args.length)
     face, bary = path.end
-    count = f"{len(path.points)} points" if len(path.points) > 1 else "1 point"
-    print(f"length {path.length:.10g} (stopped: {path.stopped}, {count}), end {face}:"
+    print(f"length {path.length:.10g} (stopped: {path.stopped}, {count_points(path.points)}), end {face}:"
           f"{','.join(f'{b:.17g}' for b in bary)}")
     header = (f"heatcore trace from {args.start} along {' '.join(f'{x:g}' for x in args.direction)} on "
               f"{Path(args.mesh).name}, length {path.length:.17g} (stopped: {path.stopped})")
-    with timed_stage("write"):
-        for out in args.output:
-            write_path(out, path.points, header=header)
-            print(f"wrote {out}")
+    write_outputs(args.output, path.points, header)
     return 0
-
-
-def check_outputs(outputs, mesh, overwrite):
-    """Refuse unusable output names before the mesh is read (as ``heatcore path``).
-
-    Examples
-    --------
-    >>> check_outputs(["t.txt"], "m.obj", False)
-    Traceback (most recent call last):
-    ...
-    heatcore.apps.outputs.UsageError: output t.txt: unknown extension '.txt'; use one of .obj, .ply, .csv
-    """
-    if not outputs:
-        raise UsageError("nothing to write: give -o/--output FILE (.obj, .ply, .csv)")
-    seen = []
-    for out in map(Path, outputs):
-        if out.suffix.lower() not in PATH_SUFFIXES:
-            raise UsageError(f"output {out}: unknown extension {out.suffix!r}; use one of {', '.join(PATH_SUFFIXES)}")
-        if any(out == other or same_file(out, other) for other in seen):
-            raise UsageError(f"output {out} is given twice")
-        if not overwrite and same_file(out, mesh):
-            raise UsageError(f"output {out} is the mesh file; write elsewhere, or pass --overwrite to replace it")
-        if not out.parent.is_dir() or out.is_dir():
-            raise CliError(f"cannot write {out}: {'it is a folder' if out.is_dir() else 'its folder does not exist'}")
-        seen.append(out)

@@ -34,8 +34,8 @@ from .intrinsic import face_areas
 from .sources import edge_list, index_list
 
 
-def region_boundary_curves(faces, region):
-    """The boundary loops of a set of faces, each oriented with the faces on its left.
+def region_boundary_curves(faces, region, mesh_boundary=True):
+    """The boundary of a set of faces, as curves oriented with the faces on their left.
 
     Parameters
     ----------
@@ -43,24 +43,32 @@ def region_boundary_curves(faces, region):
         Triangles, counter-clockwise seen from their normal.
     region : sequence of int
         Face indices.
+    mesh_boundary : bool, default True
+        Keep the region's sides on the mesh's own boundary. False: only the
+        sides it shares with faces outside it (a selection that reaches the
+        border of an open mesh is then bounded by open chains).
 
     Returns
     -------
     list of int arrays
-        Closed curves (first vertex repeated at the end), one per boundary loop;
-        an open region's boundary on the mesh boundary included.
+        Curves: closed loops (first vertex repeated at the end) and, with
+        ``mesh_boundary=False``, open chains from border to border.
 
     Examples
     --------
     >>> F = np.array([[0, 1, 2], [0, 2, 3], [0, 3, 4]])
     >>> [c.tolist() for c in region_boundary_curves(F, [1])]
     [[0, 2, 3, 0]]
+    >>> [c.tolist() for c in region_boundary_curves(F, [1], mesh_boundary=False)]   # sides 0-2 and 3-0 only
+    [[3, 0, 2]]
     """
     faces = np.asarray(faces, dtype=np.int64)
     inside = faces[index_list(region, len(faces), "face")]
     half = np.stack([inside, np.roll(inside, -1, axis=1)], axis=2).reshape(-1, 2)
     keys = {(int(a), int(b)) for a, b in half}
-    boundary = [(a, b) for a, b in keys if (b, a) not in keys]
+    every = keys if mesh_boundary else {(int(a), int(b)) for a, b in
+                                        np.stack([faces, np.roll(faces, -1, axis=1)], axis=2).reshape(-1, 2)}
+    boundary = [(a, b) for a, b in keys if (b, a) not in keys and (mesh_boundary or (b, a) in every)]
     return _walk(boundary)
 
 
@@ -166,20 +174,25 @@ def _chains(edges):
 
 
 def _walk(half_edges):
-    """Directed edges chained head to tail into closed loops (at a vertex with several ways on, any)."""
-    out = {}
+    """Directed edges chained head to tail: open chains from the vertices with more ways out than in, then
+    closed loops (at a vertex with several ways on, any)."""
+    out, surplus = {}, {}
     for a, b in sorted(half_edges):
         out.setdefault(a, []).append(b)
-    loops = []
-    for start in sorted(out):
-        while out.get(start):
-            loop = [start]
-            while out.get(loop[-1]):
-                loop.append(out[loop[-1]].pop())
-                if loop[-1] == start:
+        surplus[a] = surplus.get(a, 0) + 1
+        surplus[b] = surplus.get(b, 0) - 1
+    curves = []
+    for start in [v for v in sorted(out) if surplus[v] > 0] + sorted(out):
+        while out.get(start) and (surplus[start] > 0 or all(surplus[v] <= 0 for v in out)):
+            curve = [start]
+            while out.get(curve[-1]):
+                curve.append(out[curve[-1]].pop())
+                if curve[-1] == start:
                     break
-            loops.append(np.array(loop, dtype=np.int64))
-    return loops
+            surplus[start] -= 1
+            surplus[curve[-1]] += 1
+            curves.append(np.array(curve, dtype=np.int64))
+    return curves
 
 
 def _oriented(curve, faces, owner, area, weight):

@@ -8,6 +8,8 @@
 - :mod:`~heatcore.paths.fields`: the distance fields a solver keeps for paths
   (:class:`PathFieldCache`, held by the solver as ``path_fields``);
 - :mod:`~heatcore.paths.tracing`: :func:`trace_geodesic`, straightest geodesics from a point and a direction;
+- :mod:`~heatcore.paths.waypoints`: paths through waypoints, one geodesic per leg;
+- :mod:`~heatcore.paths.drawn`: :func:`straighten_path` and :func:`straighten_loop`, drawn paths made geodesics;
 - :mod:`~heatcore.paths.edges`: :func:`edge_chain`, mesh edges along a path (front ends select them).
 
 Examples
@@ -18,9 +20,11 @@ Examples
 0.0
 """
 
+from .drawn import straighten_loop, straighten_path
 from .edges import edge_chain
 from .fields import PathFieldCache
 from .path import GeodesicPath
 from .tracing import TracedPath, trace_geodesic
 
-__all__ = ["GeodesicPath", "PathFieldCache", "TracedPath", "edge_chain", "trace_geodesic"]
+__all__ = ["GeodesicPath", "PathFieldCache", "TracedPath", "edge_chain", "straighten_loop", "straighten_path",
+           "trace_geodesic"]

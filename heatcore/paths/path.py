@@ -57,6 +57,12 @@ class GeodesicPath:
     length : float
         Sum of the segments' lengths: the length of a path on the surface,
         never less than the geodesic distance.
+    leg_lengths : (w - 1,) float array
+        Length of each leg between consecutive waypoints (one leg for a
+        path between two points); they add up to ``length``.
+    waypoints : (w,) int array
+        Index into ``points`` of each waypoint (``[0, k - 1]`` for a path
+        between two points).
 
     Examples
     --------
@@ -74,6 +80,14 @@ class GeodesicPath:
     edges: np.ndarray
     vertices: np.ndarray
     length: float
+    leg_lengths: np.ndarray = None
+    waypoints: np.ndarray = None
+
+    def __post_init__(self):
+        if self.leg_lengths is None:  # one leg: from the first point to the last
+            object.__setattr__(self, "leg_lengths", np.array([self.length]))
+        if self.waypoints is None:
+            object.__setattr__(self, "waypoints", np.array([0, len(self.points) - 1], dtype=np.int64))
 
     def __len__(self):
         return len(self.points)

@@ -26,13 +26,20 @@ Examples
 ((2930,), True)
 """
 
+import warnings
+
 import numpy as np
 
 from ..domains.pointcloud import PointCloud
 from ..domains.polygon import PolygonMesh
 from ..domains.polygon_triangulate import triangulate_polygons
 from ..domains.triangle import TriangleMesh
-from ..errors import InvalidOptionError, InvalidSourceError, UnsupportedDomainError
+from ..errors import (
+    HeatcoreWarning,
+    InvalidOptionError,
+    InvalidSourceError,
+    UnsupportedDomainError,
+)
 from ..settings import SolverSettings
 from .curves import away_source, parse_curve, signed_source
 from .fields import CloudField, MeshField
@@ -61,7 +68,7 @@ class SignedHeatSolver:
         Time factor, ``t = m h^2`` for the vector and the scalar flows.
     accuracy : {"smooth"}
         "high" is refused: the eikonal pass's distance to a curve's points
-        was 5-35 times further from the analytic distance than the signed
+        was 5-38 times further from the analytic distance than the signed
         heat method's own (a circle on a disc, the equator of two spheres;
         docs/signed.md), so it would not sharpen anything.
     boundary, backend
@@ -98,7 +105,7 @@ class SignedHeatSolver:
         settings = SolverSettings(FRONT_END, **options) if settings is None else SolverSettings.of(settings, **options)
         if settings.accuracy == "high":
             raise InvalidOptionError(
-                'the signed heat method has no accuracy="high": its own distance is already 5-35 times closer to '
+                'the signed heat method has no accuracy="high": its own distance is already 5-38 times closer to '
                 "exact than the eikonal pass from the curve's points (docs/signed.md); use the default"
             )
         self._vertices_only = isinstance(domain, (PolygonMesh, PointCloud))
@@ -163,6 +170,7 @@ class SignedHeatSolver:
         n = ops.n_vertices
         rhs = np.zeros(n, dtype=complex)
         h = float(np.mean(ops.mean_edge_length))
+        check_segments(nodes, is_signed, h * 2 ** getattr(self.domain, "levels", 0))
         for c, s in enumerate(is_signed):
             if s:
                 signed_source(nodes, rhs, c, field.operator_basis)
@@ -229,6 +237,38 @@ class SignedHeatSolver:
         out = np.full(index.size, np.inf)
         out[index >= 0] = values[index[index >= 0]]
         return out
+
+
+#: A segment longer than this many mean edge lengths (of the mesh as given) is a chord through space, not a
+#: curve on the surface: warned about.
+LONG_SEGMENT_EDGES = 4.0
+
+
+def check_segments(nodes, is_signed, edge_length):
+    """Refuse a signed curve of no length; warn about segments much longer than the mesh's edges.
+
+    Examples
+    --------
+    >>> from heatcore.signed_heat.curves import CurveNodes
+    >>> one = (np.array([0]), np.ones(1))
+    >>> nodes = CurveNodes([one, one], np.zeros((2, 3)), np.zeros((2, 3)), np.zeros(2, int))
+    >>> check_segments(nodes, [True], 1.0)
+    Traceback (most recent call last):
+    ...
+    heatcore.errors.InvalidSourceError: curve 0 has no length (its points are all at one place): it has no sides
+    """
+    same = nodes.curve[1:] == nodes.curve[:-1]
+    length = np.linalg.norm(np.diff(nodes.positions, axis=0), axis=1) * same
+    total = np.bincount(nodes.curve[1:], weights=length, minlength=len(is_signed))
+    for c, signed in enumerate(is_signed):
+        if signed and not total[c] > 0:
+            raise InvalidSourceError(f"curve {c} has no length (its points are all at one place): it has no sides")
+    long = np.flatnonzero(length > LONG_SEGMENT_EDGES * edge_length)
+    if long.size:
+        warnings.warn(f"{long.size} curve segment(s) span more than {LONG_SEGMENT_EDGES:g} edge lengths (the longest "
+                      f"{length.max() / edge_length:.0f}): a segment is the straight chord between its points, so "
+                      "give points along the surface, one per edge or face crossed (a geodesic path between them, "
+                      "say)", HeatcoreWarning, stacklevel=3)
 
 
 def _node_weights(nodes):

@@ -239,11 +239,7 @@ def colorize(distance, colormap="viridis", isolines=0, vmax=None, stripe_width=0
         vmax = float(d[finite].max()) if finite.any() else 1.0
     vmax = vmax if vmax > 0 else 1.0
     x = np.clip(np.where(finite, d, 0.0) / vmax, 0.0, 1.0)
-    table = COLORMAPS[colormap]
-    pos = x * (len(table) - 1)
-    lo = np.minimum(pos.astype(int), len(table) - 2)
-    frac = (pos - lo)[:, None]
-    rgb = (1 - frac) * table[lo] + frac * table[lo + 1]
+    rgb = _sample(COLORMAPS[colormap], x)
     if isolines:
         phase = (x * (isolines + 1)) % 1.0
         near = np.minimum(phase, 1.0 - phase) < 0.5 * stripe_width
@@ -252,18 +248,21 @@ def colorize(distance, colormap="viridis", isolines=0, vmax=None, stripe_width=0
     return rgb
 
 
-def colorize_signed(values, isolines=0, vmax=None, stripe_width=0.08):
+def colorize_signed(values, isolines=0, vmin=None, vmax=None, stripe_width=0.08):
     """Map signed distances to RGB colors in [0, 1] (:data:`DIVERGING`: 0 is the neutral middle), with stripes.
+
+    Each side is scaled by its own extreme, so that a small inside (a mask on a large mesh) is as red as the
+    outside is blue: ``[0, vmax]`` goes to the red half, ``[vmin, 0]`` to the blue half.
 
     Parameters
     ----------
     values : (n,) float array
         Signed distances; non-finite entries get :data:`UNREACHABLE_COLOR`.
     isolines : int
-        Dark stripes on each side: at ``vmax * j / (isolines + 1)``, ``j = -isolines..isolines``
-        (:func:`heatcore.contours.signed_levels`: the zero set among them).
-    vmax : float, optional
-        The magnitude mapped to either end (default: the largest finite ``|value|``).
+        Dark stripes at 0 and every ``max(vmax, -vmin) / (isolines + 1)`` on either side: the levels of
+        :func:`heatcore.contours.signed_levels`.
+    vmin, vmax : float, optional
+        The values at the blue and the red end (default: the smallest and the largest finite value).
     stripe_width : float
         Stripe width as a fraction of the level spacing.
 
@@ -273,25 +272,33 @@ def colorize_signed(values, isolines=0, vmax=None, stripe_width=0.08):
 
     Examples
     --------
-    >>> colorize_signed(np.array([-1.0, 0.0, 1.0, np.nan])).round(3).tolist()
+    >>> colorize_signed(np.array([-4.0, 0.0, 1.0, np.nan])).round(3).tolist()   # each side to its end
     [[0.23, 0.299, 0.754], [0.866, 0.866, 0.866], [0.706, 0.016, 0.15], [0.5, 0.5, 0.5]]
+    >>> colorize_signed(np.array([-4.0, 1.0]), vmax=4.0).round(3).tolist()[1]   # 1 is a quarter of the way up
+    [0.911, 0.735, 0.674]
     """
     isolines = check("isolines", isolines)
     v = np.asarray(values, dtype=float)
     finite = np.isfinite(v)
-    if vmax is None:
-        vmax = float(np.abs(v[finite]).max()) if finite.any() else 1.0
-    vmax = vmax if vmax > 0 else 1.0
-    x = np.clip(0.5 + 0.5 * np.where(finite, v, 0.0) / vmax, 0.0, 1.0)
-    pos = x * (len(DIVERGING) - 1)
-    lo = np.minimum(pos.astype(int), len(DIVERGING) - 2)
-    frac = (pos - lo)[:, None]
-    rgb = (1 - frac) * DIVERGING[lo] + frac * DIVERGING[lo + 1]
+    w = np.where(finite, v, 0.0)
+    top = float(w.max(initial=0.0)) if vmax is None else float(vmax)
+    bottom = float(-w.min(initial=0.0)) if vmin is None else float(-vmin)
+    scale = np.where(w >= 0, top if top > 0 else 1.0, bottom if bottom > 0 else 1.0)
+    rgb = _sample(DIVERGING, np.clip(0.5 + 0.5 * w / scale, 0.0, 1.0))
     if isolines:
-        phase = (np.abs(np.where(finite, v, 0.0)) / vmax * (isolines + 1)) % 1.0
+        spacing = max(top, bottom) / (isolines + 1) if max(top, bottom) > 0 else 1.0
+        phase = (np.abs(w) / spacing) % 1.0
         rgb[np.minimum(phase, 1.0 - phase) < 0.5 * stripe_width] *= 0.25
     rgb[~finite] = UNREACHABLE_COLOR
     return rgb
+
+
+def _sample(table, x):
+    """Colors of ``table`` (evenly spaced samples) at positions ``x`` in [0, 1], interpolated linearly."""
+    pos = x * (len(table) - 1)
+    lo = np.minimum(pos.astype(int), len(table) - 2)
+    frac = (pos - lo)[:, None]
+    return (1 - frac) * table[lo] + frac * table[lo + 1]
 
 
 def to_uint8(rgb):

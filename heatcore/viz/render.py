@@ -160,7 +160,7 @@ def render_distance(
     dpi : int
     signed : bool, default False
         A signed field: the diverging map (:func:`~heatcore.viz.colormap.colorize_signed`, ``colormap``
-        unused) from ``-vmax`` to ``vmax``, and lines at 0 and ``isolines`` levels on each side
+        unused; each side to its own extreme), and lines at 0 and ``isolines`` levels on each side
         (:func:`heatcore.contours.signed_levels`).
 
     Examples
@@ -176,7 +176,7 @@ def render_distance(
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.cm import ScalarMappable
-    from matplotlib.colors import ListedColormap, Normalize
+    from matplotlib.colors import ListedColormap, Normalize, TwoSlopeNorm
     from matplotlib.figure import Figure
 
     if colormap not in COLORMAPS:
@@ -195,7 +195,9 @@ def render_distance(
     vmax = float((np.abs(d) if signed else d)[finite].max()) if finite.any() else 1.0
     vmax = vmax if vmax > 0 else 1.0
     levels = signed_levels(d, isolines) if signed else isoline_levels(d, isolines)
-    paint = (lambda v: colorize_signed(v, vmax=vmax)) if signed else (lambda v: colorize(v, colormap, vmax=vmax))
+    low = min(float(d[finite].min()), 0.0) if finite.any() else 0.0  # a signed field: each side to its extreme
+    high = max(float(d[finite].max()), 0.0) if finite.any() else 0.0
+    paint = (lambda v: colorize_signed(v, vmin=low, vmax=high)) if signed else (lambda v: colorize(v, colormap, vmax=vmax))
 
     R = camera_rotation(elevation, azimuth, up)
     P = (V - V.mean(axis=0)) @ R.T  # camera coordinates; z towards the viewer
@@ -226,8 +228,9 @@ def render_distance(
 
     cax = fig.add_axes([0.84, 0.2, 0.025, 0.6])
     if signed:
-        cmap = ListedColormap(colorize_signed(np.linspace(-1, 1, 256), vmax=1.0))
-        bar = fig.colorbar(ScalarMappable(Normalize(-vmax, vmax), cmap), cax=cax)
+        cmap = ListedColormap(colorize_signed(np.linspace(-1, 1, 256), vmin=-1.0, vmax=1.0))
+        norm = TwoSlopeNorm(0.0, low if low < 0 else -1e-300, high if high > 0 else 1e-300)
+        bar = fig.colorbar(ScalarMappable(norm, cmap), cax=cax)
         bar.set_label("signed geodesic distance")
     else:
         cmap = ListedColormap(colorize(np.linspace(0, 1, 256), colormap, vmax=1.0))

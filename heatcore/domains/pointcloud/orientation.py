@@ -20,7 +20,11 @@ Examples
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import breadth_first_order, connected_components, minimum_spanning_tree
+from scipy.sparse.csgraph import (
+    breadth_first_order,
+    connected_components,
+    minimum_spanning_tree,
+)
 from scipy.spatial import cKDTree
 
 #: A part whose normals' mean outward component is below this (times its extent) counts as flat.
