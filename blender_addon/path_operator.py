@@ -21,9 +21,9 @@ from bpy.props import BoolProperty
 
 from ._heatcore import heatcore
 from .adapters import AddonError
+from .legend import format_distance
 from .operator import options_from_panel, poll_editable_mesh
 from .path_api import geodesic_path
-from .legend import format_distance
 from .properties import GeodesicOptions
 
 #: What the operator's redo panel shows (the other options do not change a path).

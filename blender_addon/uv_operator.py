@@ -24,7 +24,15 @@ from ._heatcore import heatcore
 from .adapters import AddonError
 from .legend import format_distance
 from .operator import options_from_panel, poll_editable_mesh
-from .properties import SHAPE_HELP, SHAPE_ITEMS, SPACE_HELP, SPACE_ITEMS, UVMapOptions, option_property, option_value
+from .properties import (
+    SHAPE_HELP,
+    SHAPE_ITEMS,
+    SPACE_HELP,
+    SPACE_ITEMS,
+    UVMapOptions,
+    option_property,
+    option_value,
+)
 from .uvmap import VECTOR_OPTIONS, geodesic_uv_map
 
 #: The UV map's solver and mesh options that are the distance's (all but ``accuracy``: ``uv_accuracy``).

@@ -23,7 +23,7 @@ SEGMENTS = 48
 
 
 def _byte(f):
-    return min(max(int(round((f + 1.0) * 0.5 * 255)), 0), 255)
+    return min(max(round((f + 1.0) * 0.5 * 255), 0), 255)
 
 
 def _inside(x, y):
