@@ -29,8 +29,11 @@ def _selected(collection, n):
     return np.flatnonzero(sel)
 
 
-def selected_elements(obj, selected):
+def selected_elements(obj, selected, notes=None):
     """The vertices of the selected edges or faces of ``obj`` (Edit Mode synced) and the sources as ``{kind: ...}``.
+
+    Every edge or face selected in Object Mode (as after adding a primitive)
+    makes every distance 0: a note says so in ``notes``.
 
     Returns
     -------
@@ -58,8 +61,12 @@ def selected_elements(obj, selected):
             index = _selected(mesh.polygons, len(mesh.polygons))
             vertices = np.unique(np.concatenate([list(mesh.polygons[i].vertices) for i in index] or [[]]))
             kinds = {"faces": index}
+    what = "edges" if selected == "EDGES" else "faces"
+    total = len(obj.data.edges) if selected == "EDGES" else len(obj.data.polygons)
+    if notes is not None and obj.mode == "OBJECT" and index.size == total > 1:
+        notes.append(f"all {total:,} {what} of {obj.name!r} are selected (as after adding a primitive), so every "
+                     f"distance is 0; select the source {what} in Edit Mode")
     if index.size == 0:
-        what = "edges" if selected == "EDGES" else "faces"
         raise AddonError(f"no source {what}: no {what[:-1]} of {obj.name!r} is selected; select {what} in Edit Mode "
                          f"(or set Sources to Selected Vertices)")
     return vertices.astype(np.int64), kinds

@@ -331,7 +331,7 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
         if new_object:
             raise AddonError("selected faces or edges as sources measure the object itself: turn Apply All "
                              "Modifiers (New Object) off, or use Selected Vertices")
-        src, kinds = selected_elements(obj, selected)
+        src, kinds = selected_elements(obj, selected, notes)
     else:
         src = resolve_sources(obj, sources, vertex_group, corners, notes)
     if new_object:

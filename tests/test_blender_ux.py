@@ -347,6 +347,13 @@ def test_selected_edges_are_the_core_edges(addon):
     assert not np.allclose(d, vertex_only.distance)  # along the edges, not only at their ends
 
 
+def test_every_face_selected_in_object_mode_is_named(addon):
+    obj = ico_sphere(2)  # a new primitive: everything selected
+    with pytest.warns(UserWarning, match="all 80 faces of 'Icosphere' are selected"):
+        result = addon.compute_geodesic_distance(obj, selected="FACES")
+    assert result.max_distance == 0.0
+
+
 def test_no_selected_faces_is_an_error(addon):
     obj = ico_sphere(2)
     _select_elements(obj)
