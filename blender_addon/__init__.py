@@ -15,7 +15,8 @@ shows while it runs), ``properties``,
 ``isoline_operator`` (the *Isoline Curves* operator), ``path_operator`` and ``path_api``
 (the *Geodesic Path* operator and :func:`geodesic_path`), ``uvmap`` (:func:`geodesic_uv_map`,
 the *Geodesic UV Map* for scripts) and ``uv_operator`` (its operator), ``signed`` (:func:`signed_distance_from_edges`,
-*Signed Distance from Edges* for scripts) and ``signed_operator`` (its operator), ``menus`` (entries in the Edit Mode, Object Mode and Weight Paint menus; F3
+*Signed Distance from Edges* for scripts) and ``signed_operator`` (its operator), ``straighten``
+(:func:`straighten_edges`) and ``straighten_operator`` (*Straighten Edges*), ``menus`` (entries in the Edit Mode, Object Mode and Weight Paint menus; F3
 finds them), ``shape`` (which shape is measured), ``undo`` (active color
 across undo), ``material`` (the isoline material), ``legend`` (its
 legend sub-panel), and the interactive tool: ``probe`` (:class:`GeodesicProbe`,
@@ -52,6 +53,7 @@ from . import (
     properties,
     select_operator,
     signed_operator,
+    straighten_operator,
     undo,
     uv_operator,
 )
@@ -61,10 +63,12 @@ from .background import BackgroundBuild
 from .cache import SOLVERS
 from .probe import GeodesicProbe
 from .signed import SignedResult, signed_distance_from_edges
+from .straighten import StraightenResult, straighten_edges
 from .uvmap import UVMapResult, geodesic_uv_map
 
 __all__ = ["compute_geodesic_distance", "GeodesicResult", "GeodesicProbe", "geodesic_path", "PathResult",
-           "geodesic_uv_map", "UVMapResult", "signed_distance_from_edges", "SignedResult", "AddonError",
+           "geodesic_uv_map", "UVMapResult", "signed_distance_from_edges", "SignedResult", "straighten_edges", "StraightenResult",
+           "AddonError",
            "register", "unregister"]
 
 
@@ -78,6 +82,7 @@ def register():
     bpy.utils.register_class(path_operator.MESH_OT_heat_geodesic_path)
     bpy.utils.register_class(select_operator.MESH_OT_heat_geodesic_select_within)
     bpy.utils.register_class(signed_operator.MESH_OT_heat_signed_distance)
+    bpy.utils.register_class(straighten_operator.MESH_OT_heat_straighten_edges)
     panel.register()
     undo.register()
     menus.register()
@@ -92,6 +97,7 @@ def unregister():
     probe_tool.unregister()
     bpy.utils.unregister_class(select_operator.MESH_OT_heat_geodesic_select_within)
     bpy.utils.unregister_class(uv_operator.MESH_OT_heat_geodesic_uv_map)
+    bpy.utils.unregister_class(straighten_operator.MESH_OT_heat_straighten_edges)
     bpy.utils.unregister_class(signed_operator.MESH_OT_heat_signed_distance)
     bpy.utils.unregister_class(path_operator.MESH_OT_heat_geodesic_path)
     bpy.utils.unregister_class(isoline_operator.MESH_OT_heat_geodesic_isoline_curves)

@@ -181,11 +181,12 @@ class Placement(namedtuple("Placement", "matrix scale")):
         return placed(np.asarray(points, dtype=np.float64), self.matrix)
 
     def path(self, path):
-        """A ``heatcore.GeodesicPath`` of the solver, its points and length in the run's coordinates and units."""
+        """A ``heatcore.GeodesicPath`` (or ``TracedPath``) of the solver, its points and lengths in the run's
+        coordinates and units."""
         if self.matrix is None:
             return path
-        return dataclasses.replace(path, points=self.points(path.points), length=self.distance(path.length),
-                                   leg_lengths=self.distance(np.asarray(path.leg_lengths)))
+        legs = {"leg_lengths": self.distance(np.asarray(path.leg_lengths))} if hasattr(path, "leg_lengths") else {}
+        return dataclasses.replace(path, points=self.points(path.points), length=self.distance(path.length), **legs)
 
 
 #: The placement of a solver in the run it was built for.

@@ -21,6 +21,7 @@ from .path_operator import MESH_OT_heat_geodesic_path
 from .probe_tool import MESH_OT_heat_geodesic_probe
 from .select_operator import MESH_OT_heat_geodesic_select_within
 from .signed_operator import MESH_OT_heat_signed_distance
+from .straighten_operator import MESH_OT_heat_straighten_edges
 from .uv_operator import MESH_OT_heat_geodesic_uv_map
 
 OPERATOR = MESH_OT_heat_geodesic_distance.bl_idname
@@ -45,6 +46,9 @@ SELECT_MENU = "VIEW3D_MT_select_edit_mesh"
 #: *Signed Distance from Edges*, at the end of the Edit Mode *Edge* menu and the context menu (:data:`SIGNED_ENTRIES`).
 SIGNED_OPERATOR = MESH_OT_heat_signed_distance.bl_idname
 SIGNED_ICON = "MOD_MASK"
+#: *Straighten Edges*, in the Edit Mode *Edge* menu after *Signed Distance from Edges*.
+STRAIGHTEN_OPERATOR = MESH_OT_heat_straighten_edges.bl_idname
+STRAIGHTEN_ICON = "IPO_LINEAR"
 #: Marker attribute of our draw functions (finds entries left by an earlier copy of the module).
 MARK = "_heat_geodesic_entry"
 
@@ -112,9 +116,17 @@ def _single_entry(menu, operator, text, icon, kind):
 #: *UV* menu (U), beside Smart UV Project and Project from View.
 UV_ENTRIES = (("VIEW3D_MT_uv_map", _single_entry("VIEW3D_MT_uv_map", UV_OPERATOR, "Geodesic UV Map", UV_ICON,
                                                  "geodesic_uv")),)
-#: Menus with *Signed Distance from Edges*: the Edit Mode *Edge* menu (Ctrl E).
-SIGNED_ENTRIES = (("VIEW3D_MT_edit_mesh_edges", _single_entry("VIEW3D_MT_edit_mesh_edges", SIGNED_OPERATOR,
-                                                              "Signed Distance from Edges", SIGNED_ICON, "signed")),)
+#: Menus with *Signed Distance from Edges* and *Straighten Edges*: the Edit Mode *Edge* menu (Ctrl E).
+SIGNED_ENTRIES = (
+    ("VIEW3D_MT_edit_mesh_edges", _single_entry("VIEW3D_MT_edit_mesh_edges", SIGNED_OPERATOR,
+                                                "Signed Distance from Edges", SIGNED_ICON, "signed")),
+    ("VIEW3D_MT_edit_mesh_edges", _single_entry("VIEW3D_MT_edit_mesh_edges", STRAIGHTEN_OPERATOR,
+                                                "Straighten Edges", STRAIGHTEN_ICON, "straighten")),
+)
+
+
+#: Every (menu, draw function) this add-on adds, in order (a menu may get several).
+ALL_ENTRIES = ENTRIES + UV_ENTRIES + SIGNED_ENTRIES
 
 
 def ours(menu):
@@ -138,11 +150,9 @@ def register():
     >>> len(ours("VIEW3D_MT_object"))  # doctest: +SKIP
     1
     """
-    for menu, draw in ENTRIES + UV_ENTRIES + SIGNED_ENTRIES:
-        cls = getattr(bpy.types, menu)
-        for old in ours(menu):
-            cls.remove(old)
-        cls.append(draw)
+    unregister()  # entries of an earlier copy of this module
+    for menu, draw in ALL_ENTRIES:
+        getattr(bpy.types, menu).append(draw)
 
 
 def unregister():
@@ -154,7 +164,7 @@ def unregister():
     >>> ours("VIEW3D_MT_object")  # doctest: +SKIP
     []
     """
-    for menu, _ in reversed(ENTRIES + UV_ENTRIES + SIGNED_ENTRIES):
+    for menu in dict.fromkeys(menu for menu, _ in reversed(ALL_ENTRIES)):
         cls = getattr(bpy.types, menu)
         for old in ours(menu):
             cls.remove(old)

@@ -124,9 +124,10 @@ class OverlayData:
         data.sources = np.array([surface.point(*s) for s in probe.sources], dtype=np.float32).reshape(-1, 3)
         if probe.target is not None:
             data.target = surface.point(*probe.target).astype(np.float32)
-        if probe.path is not None:
+        shown = probe.trace if getattr(probe, "trace", None) is not None else probe.path  # a trace, else the path
+        if shown is not None:
             M = probe.matrix
-            data.path = np.asarray(probe.path.points if M is None else probe.path.points @ M[:3, :3].T + M[:3, 3],
+            data.path = np.asarray(shown.points if M is None else shown.points @ M[:3, :3].T + M[:3, 3],
                                    dtype=np.float32)
         isolines, count = getattr(heatcore, "isolines", None), int(probe.run.outputs["isolines"])
         if isolines is not None and probe.distance is not None and count and not probe.dragging:

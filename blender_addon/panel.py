@@ -32,6 +32,7 @@ class VIEW3D_PT_heat_geodesic(bpy.types.Panel):
         row.operator("mesh.heat_geodesic_isoline_curves", text="Curves", icon="OUTLINER_OB_CURVE")
         layout.operator("mesh.heat_geodesic_probe", icon="CURSOR")
         layout.operator("mesh.heat_geodesic_path", icon="CURVE_PATH")
+        layout.operator("mesh.heat_straighten_edges", icon="IPO_LINEAR")
         layout.operator("mesh.heat_signed_distance", icon="MOD_MASK")
 
         col = layout.column(heading="Sources")

@@ -129,7 +129,7 @@ def selected_ends(obj):
     return [int(active), int(selected[selected != active][0])]
 
 
-def _edge_chain(obj, V, path, source, target):
+def edge_chain_along(obj, V, path, source, target):
     """Mesh edges along one leg ``path``: the shortest chain among the vertices of the polygons it crosses."""
     mesh = obj.data
     corner_verts, triangle_faces = topology(mesh)
@@ -143,7 +143,7 @@ def _edge_chain(obj, V, path, source, target):
     return paths.edge_chain(V, E.reshape(-1, 2), allowed, source, target)
 
 
-def _select_edges(obj, edge_ids):
+def select_mesh_edges(obj, edge_ids):
     """Add the edges ``edge_ids`` (and their vertices) to the selection; the active element stays."""
     if obj.mode == "EDIT":
         bm = bmesh.from_edit_mesh(obj.data)
@@ -230,13 +230,7 @@ def geodesic_path(obj, source=None, target=None, *, waypoints=None, closed=False
         raise AddonError(f"a path needs two vertices or more, got {len(waypoints)}")
     if not len(obj.data.polygons):
         raise AddonError(f"Geodesic Path runs on faces and mesh {obj.data.name!r} has none")
-    run = prepare_run(obj, sources_later=True, space=space, shape=shape, progress=progress,
-                      attribute=None, color_attribute=None, **solver_options)
-    for note in run.notes:
-        warnings.warn(note, stacklevel=2)
-    if run.solver is None:
-        build_solver(run, progress)
-        SOLVERS.store(run.cache_id, run.key, run.solver)
+    run = path_run(obj, space, shape, progress, solver_options)
     try:
         if len(waypoints) == 2 and not closed:
             path = run.placement.path(run.solver.geodesic_path(*waypoints))
@@ -247,21 +241,39 @@ def geodesic_path(obj, source=None, target=None, *, waypoints=None, closed=False
     edge_ids = np.zeros(0, dtype=np.int64)
     if select_edges:
         edge_ids = _leg_edges(obj, run, waypoints, closed)
-    points = np.asarray(path.points, dtype=np.float64)
-    if run.space == "LOCAL":
-        M = np.array(obj.matrix_world, dtype=np.float64)
-        points = points @ M[:3, :3].T + M[:3, 3]
+    points = world_points(obj, run, path.points)
     curve = write_curves(obj, "Path", [points])
     if select_edges:
-        _select_edges(obj, edge_ids)
+        select_mesh_edges(obj, edge_ids)
     return PathResult(curve, float(path.length), points, path, waypoints[0], waypoints[0] if closed else waypoints[-1],
                       waypoints, np.asarray(path.leg_lengths, dtype=np.float64), edge_ids, time.perf_counter() - start,
                       run.cached, list(run.notes))
 
 
+def path_run(obj, space, shape, progress, solver_options):
+    """The prepared run of a path on ``obj`` (the shape as measured, loop triangles), its solver built and cached."""
+    run = prepare_run(obj, sources_later=True, space=space, shape=shape, progress=progress,
+                      attribute=None, color_attribute=None, **solver_options)
+    for note in run.notes:
+        warnings.warn(note, stacklevel=3)
+    if run.solver is None:
+        build_solver(run, progress)
+        SOLVERS.store(run.cache_id, run.key, run.solver)
+    return run
+
+
+def world_points(obj, run, points):
+    """Points measured by ``run`` in world coordinates (Space Local: moved by the object's matrix)."""
+    points = np.asarray(points, dtype=np.float64)
+    if run.space == "LOCAL":
+        M = np.array(obj.matrix_world, dtype=np.float64)
+        points = points @ M[:3, :3].T + M[:3, 3]
+    return points
+
+
 def _leg_edges(obj, run, waypoints, closed):
-    """The mesh edges along each leg (:func:`_edge_chain` of the leg's own path), in order."""
+    """The mesh edges along each leg (`edge_chain_along` of the leg's own path), in order."""
     stops = waypoints + waypoints[:1] if closed else waypoints
-    chains = [_edge_chain(obj, run.V, run.placement.path(run.solver.geodesic_path(a, b)), a, b)[1]
+    chains = [edge_chain_along(obj, run.V, run.placement.path(run.solver.geodesic_path(a, b)), a, b)[1]
               for a, b in zip(stops[:-1], stops[1:])]
     return np.concatenate(chains) if chains else np.zeros(0, dtype=np.int64)

@@ -90,6 +90,8 @@ class GeodesicProbe:
         self.sources = []  # (face, barycentric) or (vertex, None)
         self.active = None  # index of the dragged source
         self.target = self.path = self.distance = None
+        #: A traced geodesic (the tool's Alt+drag, :mod:`.probe_trace`): its start and heatcore's ``TracedPath``.
+        self.trace_start = self.trace = None
         self.changed = False
         self.ended = False
         #: Whether the field shown is the solver's (False: the coarse preview of a drag, until :meth:`settle`).
@@ -311,7 +313,7 @@ class GeodesicProbe:
 
         if not self.sources:
             self.distance = None
-            self._show()
+            self.show()
             return None
         return self._update(undo=undo)
 
@@ -332,7 +334,7 @@ class GeodesicProbe:
         queried = time.perf_counter()
         if self.target is not None:
             self.path = None  # from the old sources: recomputed by update_path()
-        self._show()
+        self.show()
         self.timings = {"query": queried - start, "display": time.perf_counter() - queried,
                         "update": time.perf_counter() - start}
         return self.distance
@@ -373,7 +375,7 @@ class GeodesicProbe:
         if self.target is not None and self.path is None and self.sources:
             self.update_path()
         else:
-            self._show()
+            self.show()
 
     def update_path(self):
         """Recompute the path to the target from the current sources (after a move); None without a target."""
@@ -383,7 +385,7 @@ class GeodesicProbe:
         paths = [self.run.placement.path(self.run.solver.geodesic_path(s if b is None else (s, b), target))
                  for s, b in self.sources]
         self.path = min(paths, key=lambda p: p.length)
-        self._show()
+        self.show()
         return self.path
 
     # ---- where the cursor is
@@ -403,7 +405,8 @@ class GeodesicProbe:
         """What the overlay draws now (:class:`~.overlay.OverlayData`)."""
         return OverlayData.of(self)
 
-    def _show(self):
+    def show(self):
+        """Redraw the overlay with what the probe holds now."""
         if self._overlay is not None:
             self._overlay.update(self.overlay_data())
 

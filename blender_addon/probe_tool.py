@@ -4,7 +4,9 @@
 over the mesh and the header shows the geodesic distance under the cursor;
 click places the source at the surface point, drag moves it and the field
 follows (drawn as an overlay), Shift+click adds a source, Ctrl+click sets a
-target and draws the geodesic path; Enter writes the result (one undo step),
+target and draws the geodesic path, Alt+drag traces the straightest geodesic
+from the press towards the mouse (:mod:`.probe_trace`); Enter writes the
+result and the trace (one undo step),
 Esc or right-click cancels and leaves the mesh as it was. The toolbar tool
 *Geodesic Probe* (Object and Edit Mode) runs the same operator from each
 click, and releasing the button confirms; Shift+click and Ctrl+click there
@@ -37,6 +39,7 @@ from .legend import format_distance
 from .operator import poll_editable_mesh, show_color_attribute
 from .probe import GeodesicProbe
 from .probe_surface import Hit
+from .probe_trace import start_trace, trace_to, write_trace
 
 OPERATOR = "mesh.heat_geodesic_probe"
 #: Errors shown to the user (anything else is a bug: it propagates with its traceback).
@@ -52,7 +55,8 @@ MOVES = frozenset({"MOUSEMOVE", "INBETWEEN_MOUSEMOVE"})
 REST_SECONDS = 0.08
 CONFIRM = frozenset({"RET", "NUMPAD_ENTER"})
 CANCEL = frozenset({"ESC", "RIGHTMOUSE"})
-KEYS = "click: source · drag: move it · Shift+click: add · Ctrl+click: path to · Enter: apply · Esc: cancel"
+KEYS = ("click: source · drag: move it · Shift+click: add · Ctrl+click: path to · Alt+drag: trace · Enter: apply · "
+        "Esc: cancel")
 TOOL_KEYS = "release: apply · Esc / right-click: cancel"
 
 #: Where the sources of the tool's last click on a mesh are kept: the cache of its solver's domain (so per unchanged
@@ -86,6 +90,7 @@ class ProbeSession:
         self.release_confirms = release_confirms
         self.pending = press
         self.dragging = False
+        self.tracing = False  # Alt+drag: the trace follows the mouse (:mod:`.probe_trace`)
         self.moved_at = 0.0  # time.perf_counter() of the drag's last move
         self.released = False  # the tool's button released while the solver was being built
         self.result = None
@@ -116,7 +121,7 @@ class ProbeSession:
                 self._move(event)
             elif kind == "LEFTMOUSE" and value == "PRESS":
                 return self._press(event)
-            elif kind == "LEFTMOUSE" and value == "RELEASE" and (self.dragging or self.release_confirms):
+            elif kind == "LEFTMOUSE" and value == "RELEASE" and (self.dragging or self.tracing or self.release_confirms):
                 return self._release()
             elif kind in CONFIRM and value == "PRESS":
                 return self.confirm()
@@ -168,6 +173,11 @@ class ProbeSession:
         hit = self._hit(event)
         if hit is None:
             return
+        if self.tracing:
+            traced = trace_to(self.probe, hit.face, hit.barycentric)
+            if traced is not None:
+                self.display.text(f"Trace: {self._format(traced.length)} (stopped: {traced.stopped})", self.keys)
+            return
         if self.dragging:  # on a large mesh the coarse preview, until the mouse rests (_rest)
             self.probe.move_to(hit.face, hit.barycentric, preview=True)
             self.moved_at = time.perf_counter()
@@ -195,6 +205,11 @@ class ProbeSession:
         hit = self._hit(event)
         if hit is None:
             return self.cancel(None) if self.release_confirms else {"RUNNING_MODAL"}
+        if event.alt:
+            start_trace(self.probe, hit.face, hit.barycentric)
+            self.tracing = True
+            self.display.text("Trace: drag towards where it should go", self.keys)
+            return {"RUNNING_MODAL"}
         if event.ctrl:
             path = self.probe.path_to(hit.face, hit.barycentric)
             self.display.text(f"Path to the target: {self._format(path.length)} long", self.keys)
@@ -208,6 +223,9 @@ class ProbeSession:
         return {"RUNNING_MODAL"}
 
     def _release(self):
+        if self.tracing:
+            self.tracing = False
+            return self.confirm() if self.release_confirms else {"RUNNING_MODAL"}
         self.dragging = False
         self.probe.end_drag()  # the solver's field (no preview), the path follows, the isoline curves come back
         self.display.wake(False)
@@ -227,7 +245,12 @@ class ProbeSession:
     # ---- the end
 
     def confirm(self):
-        """Write the result: ``{"FINISHED"}``; with no source placed, say so and go on (or end, for the tool)."""
+        """Write the result: ``{"FINISHED"}``; with no source placed, say so and go on (or end, for the tool).
+
+        A trace (Alt+drag) is written as a curve object too; with no source placed, only it is written.
+        """
+        if self.probe.distance is None and self.probe.trace is not None:
+            return self._confirm_trace()
         try:
             self.result = self.probe.confirm(push_undo=False)  # the operator's FINISHED pushes the undo step
         except REPORTED_ERRORS as exc:
@@ -236,10 +259,24 @@ class ProbeSession:
                 return {"RUNNING_MODAL"}
             return self.cancel(str(exc), "ERROR")
         self.probe.run.solver.domain.derived[SOURCES_KEY] = list(self.probe.sources)
+        write_trace(self.probe, self.result.object)
         self.display.end()
         sources = len(self.probe.sources)
         self.report({"INFO"}, f"Geodesic probe: distance from {sources} source{'s' * (sources > 1)} written to "
                               f"{self.result.object.name!r} (farthest {self._format(self.result.max_distance)})")
+        return {"FINISHED"}
+
+    def _confirm_trace(self):
+        """Write the trace alone (no source was placed) as its curve object."""
+        try:
+            obj = self.probe.check()
+        except REPORTED_ERRORS as exc:
+            return self.cancel(str(exc), "ERROR")
+        curve = write_trace(self.probe, obj)
+        length = self._format(self.probe.trace.length)
+        self.probe.end()
+        self.display.end()
+        self.report({"INFO"}, f"Geodesic probe: trace of length {length} written to {curve.name!r}")
         return {"FINISHED"}
 
     def cancel(self, message=None, kind="WARNING"):
@@ -286,7 +323,7 @@ def view_locate(region, rv3d, probe):
 
 
 class MESH_OT_heat_geodesic_probe(bpy.types.Operator):
-    """Click on the mesh to see the geodesic distance live: drag the source, Shift+click adds one, Ctrl+click draws the path to a target; Enter writes the result"""
+    """Click on the mesh to see the geodesic distance live: drag the source, Shift+click adds one, Ctrl+click draws the path to a target, Alt+drag traces a straight line on the surface; Enter writes the result"""
 
     bl_idname = OPERATOR
     bl_label = "Geodesic Probe"

@@ -57,6 +57,7 @@ class Event:
     mouse_y: int = 0
     shift: bool = False
     ctrl: bool = False
+    alt: bool = False
 
 
 class RecordingDisplay:

@@ -15,6 +15,14 @@ HALF = 0.5  # the square's half side, in the grid's own coordinates (the grid sp
 SCALE = 2.0
 
 
+@pytest.fixture(autouse=True)
+def keep_select_mode():
+    """These tests select edges in Edge select mode: the scene's mode is put back (other tests draw menus by it)."""
+    before = bpy.context.scene.tool_settings.mesh_select_mode[:]
+    yield
+    bpy.context.scene.tool_settings.mesh_select_mode = before  # the scene anew: an undo replaces it
+
+
 def grid(n=21):
     """A flat grid of ``n`` x ``n`` vertices (spacing 2 / (n - 1)), scaled by SCALE and moved."""
     bpy.ops.mesh.primitive_grid_add(x_subdivisions=n - 1, y_subdivisions=n - 1, size=2.0)  # n - 1 cuts

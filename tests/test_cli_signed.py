@@ -65,7 +65,7 @@ def test_face_points_and_unsigned_curves(tmp_path, capsys):
 
 def test_errors(tmp_path, capsys):
     spot = str(demo_mesh_path())
-    good = _curve_file(tmp_path / "good.txt", [0, 1])
+    good = _curve_file(tmp_path / "good.txt", [738, 734])  # an edge of spot
     out = str(tmp_path / "s.npy")
     assert main(["signed", spot, "-o", out]) == 2  # no curve
     assert "no curve" in capsys.readouterr().err
@@ -76,7 +76,7 @@ def test_errors(tmp_path, capsys):
     (tmp_path / "bad.txt").write_text("0\nzero\n")
     assert main(["signed", spot, "--curve", str(tmp_path / "bad.txt"), "-o", out]) == 2
     assert "bad.txt line 2" in capsys.readouterr().err
-    (tmp_path / "one.txt").write_text("0\n")
+    (tmp_path / "one.txt").write_text("738\n")
     assert main(["signed", spot, "--curve", str(tmp_path / "one.txt"), "-o", out]) == 2
     assert "needs two" in capsys.readouterr().err
     assert main(["signed", spot, "--curve", str(good), "-o", out, "--accuracy", "high"]) == 2  # not offered

@@ -24,7 +24,7 @@ Examples
 >>> from heatcore.apps.cli import main
 >>> tmp = tempfile.TemporaryDirectory()
 >>> curve = Path(tmp.name) / "c.txt"
->>> _ = curve.write_text("# three vertices of spot\\n0\\n1\\n2\\n")
+>>> _ = curve.write_text("# spot's first triangle, round\\n738\\n734\\n735\\n738\\n")
 >>> main(["signed", str(demo_mesh_path()), "--curve", str(curve), "-o", str(Path(tmp.name) / "s.npy"), "-q"])
 ... # doctest: +ELLIPSIS
 signed distance: min -..., max ..., 0 on 1 curve
@@ -156,7 +156,7 @@ def run_signed(args):
     >>> from heatcore.apps.cli import build_parser
     >>> tmp = tempfile.TemporaryDirectory()
     >>> curve = Path(tmp.name) / "c.txt"
-    >>> _ = curve.write_text("0\\n1\\n")
+    >>> _ = curve.write_text("738\\n734\\n")  # an edge of spot
     >>> run_signed(build_parser().parse_args(["signed", str(demo_mesh_path()), "--curve", str(curve),
     ...                                       "-o", str(Path(tmp.name) / "s.csv")]))  # doctest: +ELLIPSIS
     signed distance: ...
