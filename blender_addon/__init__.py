@@ -22,7 +22,10 @@ across undo), ``material`` (the isoline material), ``legend`` (its
 legend sub-panel), and the interactive tool: ``probe`` (:class:`GeodesicProbe`,
 sources at surface points, the field live), ``probe_surface`` (ray casting
 the displayed mesh), ``overlay`` (what it draws), ``curves`` (its path and isolines as curve objects) and
-``probe_tool`` (its modal operator and toolbar tools).
+``probe_tool`` (its modal operator and toolbar tools); ``tooltips`` (the options' tooltips for Blender users),
+``targets`` (the objects a click measures), ``elements`` (selected faces and edges as sources),
+``select_operator`` (*Select › Within Geodesic Distance*), ``redo`` (the operator's redo panel) and ``presets``
+(its presets).
 
 Examples
 --------
@@ -45,8 +48,10 @@ from . import (
     operator,
     panel,
     path_operator,
+    presets,
     probe_tool,
     properties,
+    select_operator,
     signed_operator,
     straighten_operator,
     undo,
@@ -75,11 +80,13 @@ def register():
     bpy.utils.register_class(isoline_operator.MESH_OT_heat_geodesic_isoline_curves)
     bpy.utils.register_class(uv_operator.MESH_OT_heat_geodesic_uv_map)
     bpy.utils.register_class(path_operator.MESH_OT_heat_geodesic_path)
+    bpy.utils.register_class(select_operator.MESH_OT_heat_geodesic_select_within)
     bpy.utils.register_class(signed_operator.MESH_OT_heat_signed_distance)
     bpy.utils.register_class(straighten_operator.MESH_OT_heat_straighten_edges)
     panel.register()
     undo.register()
     menus.register()
+    presets.register()
 
 
 def unregister():
@@ -88,6 +95,7 @@ def unregister():
     undo.unregister()
     panel.unregister()
     probe_tool.unregister()
+    bpy.utils.unregister_class(select_operator.MESH_OT_heat_geodesic_select_within)
     bpy.utils.unregister_class(uv_operator.MESH_OT_heat_geodesic_uv_map)
     bpy.utils.unregister_class(straighten_operator.MESH_OT_heat_straighten_edges)
     bpy.utils.unregister_class(signed_operator.MESH_OT_heat_signed_distance)

@@ -62,6 +62,7 @@ def compute_geodesic_distance(
     isoline_spacing=0.0,
     isoline_width=1.5,
     polygons="AUTO",
+    selected="VERTICES",
     progress=None,
     **solver_options,
 ):
@@ -135,7 +136,7 @@ def compute_geodesic_distance(
         modified; disable or remove the modifier to restore the look.
     isoline_spacing : float
         Distance between the material's isolines, in the units of the
-        distance (``space``); 0: the largest distance / ``isolines``.
+        distance (``space``); 0: the largest distance / (``isolines`` + 1).
     isoline_width : float
         Width of the material's isolines in screen pixels, at any zoom (a
         line is 0.7 to 1 times it wide, by its direction on screen).
@@ -144,6 +145,12 @@ def compute_geodesic_distance(
         (:class:`heatcore.PolygonMesh`: more accurate than its loop
         triangles; see :mod:`.polygons` for where triangles are kept);
         ``"TRIANGULATE"``: always its loop triangles.
+    selected : {"VERTICES", "EDGES", "FACES"}
+        Without ``sources`` or ``vertex_group``: the selected vertices, or
+        the selected edges (the distance to them, 0 along them: heatcore's
+        ``edges=``) or faces (the distance to that region, 0 inside it:
+        heatcore's ``region=``) are the sources. Edges and faces need
+        ``new_object=False``.
     progress : callable, optional
         ``progress(fraction, message)`` at each stage: reading the mesh, each
         stage of the solver build (heatcore's, see ``heatcore.progress``),
@@ -184,7 +191,7 @@ def compute_geodesic_distance(
         attribute=attribute, color_attribute=color_attribute, colormap=colormap, isolines=isolines,
         normalize=normalize, weight_group=weight_group, weight_radius=weight_radius,
         weight_falloff=weight_falloff, weight_invert=weight_invert, isoline_material=isoline_material,
-        isoline_spacing=isoline_spacing, isoline_width=isoline_width, polygons=polygons, **solver_options,
+        isoline_spacing=isoline_spacing, isoline_width=isoline_width, polygons=polygons, selected=selected, **solver_options,
     )
     for note in run.notes:
         warnings.warn(note, stacklevel=2)

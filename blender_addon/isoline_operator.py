@@ -4,11 +4,15 @@ Reads the FLOAT point attribute written by *Geodesic Distance* (the panel's
 *Attribute*, ``geodesic_distance`` by default, or a named one) of the active
 mesh object, computes its isolines with :func:`heatcore.isolines` on the
 shape the user sees (the evaluated positions in object coordinates, the
-mesh's triangles) and writes one curve object, ``"<object> Isolines"``, with
-one POLY spline per isoline (cyclic when the isoline is closed), parented to
-the mesh object so that it sits on it. Running it again replaces that
-object's curve (our objects carry the custom property :data:`MARKER`).
-Levels are in the attribute's units: with *Normalize* on, 0..1.
+mesh's triangles) and writes one curve object, ``"<object> Geodesic Isolines"``
+(the name the probe's isolines have: one object), with one POLY spline per
+isoline (cyclic when the isoline is closed), parented to the mesh object so
+that it sits on it. Running it again, or confirming the probe with *Isoline
+Curves*, replaces that object's curve (our objects carry the custom property
+:data:`MARKER` and the probe's :data:`~.curves.CURVE_MARKER`). The number of
+lines is the panel's *Isolines* when invoked (the curves lie on the stripes
+of the distance colors and on the isoline material's lines). Levels are in
+the attribute's units: with *Normalize* on, 0..1.
 
 Examples
 --------
@@ -16,14 +20,19 @@ Examples
 >>> bpy.ops.mesh.heat_geodesic_isoline_curves(spacing=0.1)      # doctest: +SKIP
 """
 
+import importlib
+
 import bpy
 import numpy as np
 from bpy.props import FloatProperty, IntProperty, StringProperty
 
 from ._heatcore import heatcore
 from .adapters import AddonError, mesh_arrays, stored
-from .curves import fill_splines
+from .curves import CURVE_MARKER, fill_splines
 from .shape import measured_positions
+
+#: The isoline count's default: the panel's *Isolines* (heatcore's ``isolines`` option, Blender's default).
+DEFAULT_COUNT = importlib.import_module(heatcore.__name__ + ".options").OPTIONS["isolines"].default_for("blender")
 
 #: Custom property of the curve objects this operator made (value: the mesh object's name).
 MARKER = "heat_geodesic_isolines_of"
@@ -75,14 +84,16 @@ def write_curve(obj, curves, name):
 
     Examples
     --------
-    >>> write_curve(obj, heatcore.isolines(V, F, d, 8), "Cube Isolines")  # doctest: +SKIP
-    bpy.data.objects['Cube Isolines']
+    >>> write_curve(obj, heatcore.isolines(V, F, d, 8), "Cube Geodesic Isolines")  # doctest: +SKIP
+    bpy.data.objects['Cube Geodesic Isolines']
     """
     data = bpy.data.curves.new(name, type="CURVE")
     data.dimensions = "3D"
     fill_splines(data, [iso.points for iso in curves], [iso.closed for iso in curves])
     target = bpy.data.objects.get(name)
-    if target is not None and target.get(MARKER) is not None and target.type == "CURVE":
+    probe_mark = f"{obj.name}\nIsolines"  # the probe's isolines of obj: the same object
+    if target is not None and target.type == "CURVE" and (target.get(MARKER) is not None
+                                                         or target.get(CURVE_MARKER) == probe_mark):
         old = target.data
         target.data = data
         if old.users == 0:
@@ -93,13 +104,14 @@ def write_curve(obj, curves, name):
         collections = obj.users_collection or (bpy.context.scene.collection,)
         collections[0].objects.link(target)
     target[MARKER] = obj.name
+    target[CURVE_MARKER] = probe_mark
     target.parent = obj
     target.matrix_parent_inverse.identity()
     target.matrix_basis.identity()
     return target
 
 
-def isoline_curves(obj, attribute, count=8, spacing=0.0, name=""):
+def isoline_curves(obj, attribute, count=DEFAULT_COUNT, spacing=0.0, name=""):
     """Compute the isolines of ``obj``'s ``attribute`` on its displayed shape and write them as a curve object.
 
     Returns
@@ -111,7 +123,7 @@ def isoline_curves(obj, attribute, count=8, spacing=0.0, name=""):
     Examples
     --------
     >>> isoline_curves(bpy.context.object, "geodesic_distance", count=8)  # doctest: +SKIP
-    (bpy.data.objects['Cube Isolines'], 9)
+    (bpy.data.objects['Cube Geodesic Isolines'], 9)
     """
     if obj is None or obj.type != "MESH":
         raise AddonError("the active object must be a mesh")
@@ -123,7 +135,7 @@ def isoline_curves(obj, attribute, count=8, spacing=0.0, name=""):
     if len(V) != len(values):
         raise AddonError(f"attribute {attribute!r} has {len(values)} values for {len(V)} vertices")
     curves = heatcore.isolines(V, F, values, curve_levels(values, count, spacing))
-    return write_curve(obj, curves, name or f"{obj.name} Isolines"), len(curves)
+    return write_curve(obj, curves, name or f"{obj.name} Geodesic Isolines"), len(curves)
 
 
 class MESH_OT_heat_geodesic_isoline_curves(bpy.types.Operator):
@@ -135,16 +147,27 @@ class MESH_OT_heat_geodesic_isoline_curves(bpy.types.Operator):
 
     attribute: StringProperty(name="Attribute", default="",
                               description="FLOAT point attribute with the distance (empty: the panel's Attribute)")
-    count: IntProperty(name="Isolines", default=8, min=1, soft_max=100,
-                       description="Number of evenly spaced levels (when Spacing is 0)")
+    count: IntProperty(name="Isolines", default=DEFAULT_COUNT, min=1, soft_max=100,
+                       description="Number of evenly spaced levels, when Spacing is 0 (from the button: the "
+                                   "panel's Isolines, so that the curves lie on the stripes)")
     spacing: FloatProperty(name="Spacing", default=0.0, min=0.0, subtype="DISTANCE",
                            description="Distance between levels in the attribute's units (0: use the number)")
-    name: StringProperty(name="Name", default="", description="Curve object (empty: \"<object> Isolines\")")
+    name: StringProperty(name="Name", default="",
+                         description="Curve object (empty: \"<object> Geodesic Isolines\")")
 
     @classmethod
     def poll(cls, context):
         obj = context.active_object
+        if obj is not None and obj.type == "MESH" and not obj.visible_get():
+            cls.poll_message_set("The active object is hidden")
+            return False
         return obj is not None and obj.type == "MESH"
+
+    def invoke(self, context, event):
+        isolines = context.scene.heat_geodesic.isolines
+        if not self.properties.is_property_set("count") and isolines > 0:
+            self.count = isolines  # the panel's count: the curves lie on the stripes
+        return self.execute(context)
 
     def execute(self, context):
         obj = context.active_object

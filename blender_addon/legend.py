@@ -30,7 +30,8 @@ def format_distance(value, space, scene):
         return f"{value:.4g} (object units)"
     if units.system == "NONE":
         return f"{value:.4g}"
-    return bpy.utils.units.to_string(units.system, "LENGTH", value * units.scale_length, precision=4)
+    return bpy.utils.units.to_string(units.system, "LENGTH", value * units.scale_length, precision=4,
+                                     split_unit=units.use_separate)
 
 
 class VIEW3D_PT_heat_geodesic_legend(bpy.types.Panel):

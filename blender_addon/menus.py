@@ -1,7 +1,7 @@
 """Menu entries of the geodesic distance operator, so that it can be found where mesh tools are.
 
 Edit Mode: the right-click context menu, the header's *Vertex* menu and
-*Mesh › Weights*; Object Mode: the *Object* menu and the right-click
+*Mesh › Weights* (the *Select* menu also holds *Within Geodesic Distance*, first); Object Mode: the *Object* menu and the right-click
 context menu (mesh objects); Weight Paint: the *Weights* menu. The *Weights*
 entries run the operator with the vertex-group output on; the others have the
 interactive *Geodesic Probe* (:mod:`.probe_tool`) just above it; the Edit Mode
@@ -19,6 +19,7 @@ from .isoline_operator import MESH_OT_heat_geodesic_isoline_curves
 from .operator import MESH_OT_heat_geodesic_distance
 from .path_operator import MESH_OT_heat_geodesic_path
 from .probe_tool import MESH_OT_heat_geodesic_probe
+from .select_operator import MESH_OT_heat_geodesic_select_within
 from .signed_operator import MESH_OT_heat_signed_distance
 from .straighten_operator import MESH_OT_heat_straighten_edges
 from .uv_operator import MESH_OT_heat_geodesic_uv_map
@@ -39,6 +40,9 @@ PATH_MENUS = ("VIEW3D_MT_edit_mesh_context_menu", "VIEW3D_MT_edit_mesh_vertices"
 #: (:data:`UV_ENTRIES`).
 UV_OPERATOR = MESH_OT_heat_geodesic_uv_map.bl_idname
 UV_ICON = "UV"
+#: *Within Geodesic Distance* (grow the selection), first of our entries in the Edit Mode *Select* menu.
+SELECT_OPERATOR = MESH_OT_heat_geodesic_select_within.bl_idname
+SELECT_MENU = "VIEW3D_MT_select_edit_mesh"
 #: *Signed Distance from Edges*, at the end of the Edit Mode *Edge* menu and the context menu (:data:`SIGNED_ENTRIES`).
 SIGNED_OPERATOR = MESH_OT_heat_signed_distance.bl_idname
 SIGNED_ICON = "MOD_MASK"
@@ -63,6 +67,8 @@ def _entry(menu, text, weights=False, mesh_only=False, curves=False):
         layout.separator()
         # Invoke: options not given by the entry come from the panel (as from the button).
         layout.operator_context = "INVOKE_REGION_WIN"
+        if menu == SELECT_MENU:
+            layout.operator(SELECT_OPERATOR, text="Within Geodesic Distance", icon=ICON)
         if not weights:
             layout.operator(PROBE, text="Geodesic Probe", icon=PROBE_ICON)
         props = layout.operator(OPERATOR, text=text, icon=ICON)

@@ -24,8 +24,11 @@ from .adapters import AddonError
 from .api import compute_geodesic_distance
 from .background import CANCELLED, FAILED, RUNNING, BackgroundBuild, Busy
 from .display import ProgressDisplay
+from .legend import format_distance
 from .properties import GeodesicOptions
+from .redo import draw_run_options
 from .stages import BUILD_RANGE, build_solver, check_unchanged, finish_run, prepare_run
+from .targets import skipped_message, target_objects
 
 #: Errors reported as messages (anything else is a bug: it propagates, with its traceback).
 REPORTED_ERRORS = (AddonError, heatcore.HeatcoreError, MemoryError)
@@ -50,14 +53,16 @@ def show_color_attribute(context, material=False):
                 shading.color_type = "VERTEX"  # "Attribute" in the UI
 
 
-def report_result(context, result, report, obj, material=False):
-    """Statistics for the panel, attribute colors in the viewport, and the INFO (and WARNING) reports of a run on ``obj``."""
+def report_result(context, result, report, obj, material=False, space="WORLD"):
+    """Statistics for the panel, attribute colors in the viewport, and the INFO (and WARNING) reports of a run on ``obj``
+    (its largest distance in the scene's units in World ``space``)."""
     stats = context.window_manager.heat_geodesic_stats
     stats.valid = True
     stats.object_name = result.object.name
     stats.vertices = result.n_vertices
     stats.sources = result.sources.size
     stats.max_distance = result.max_distance
+    stats.space = space
     stats.seconds = result.seconds
     stats.solver_seconds = result.solver_seconds
     stats.cached = result.cached
@@ -69,7 +74,7 @@ def report_result(context, result, report, obj, material=False):
     report(
         {"INFO"},
         f"Geodesic distance on {result.n_vertices:,} vertices{where} from {result.sources.size:,} sources: "
-        f"max {result.max_distance:.4g}, {result.seconds:.2f} s ({how})",
+        f"max {format_distance(result.max_distance, space, context.scene)}, {result.seconds:.2f} s ({how})",
     )
     return {"FINISHED"}
 
@@ -134,7 +139,7 @@ class ModalRun:
                 return {"CANCELLED"}
         finally:
             self.display.end()
-        return report_result(context, result, self.report, obj, self.run.outputs["isoline_material"])
+        return report_result(context, result, self.report, obj, self.run.outputs["isoline_material"], self.run.space)
 
     def cancel(self, message=None):
         """Cancel the build (the worker stops at its next stage), take the display down: ``{"CANCELLED"}``."""
@@ -180,6 +185,9 @@ def poll_editable_mesh(cls, context):
     if obj is None or obj.type != "MESH":
         cls.poll_message_set("The active object must be a mesh")
         return False
+    if not obj.visible_get():
+        cls.poll_message_set("The active object is hidden")
+        return False
     if not obj.data.is_editmode and (obj.library or obj.data.library):
         cls.poll_message_set("Linked (library) meshes cannot be modified")
         return False
@@ -191,23 +199,30 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
 
     bl_idname = "mesh.heat_geodesic_distance"
     bl_label = "Geodesic Distance"
-    bl_options = {"REGISTER", "UNDO"}
+    bl_options = {"REGISTER", "UNDO", "PRESET"}  # presets: .presets (mask, falloff weights, isolines)
 
     poll = classmethod(poll_editable_mesh)
 
+    def draw(self, context):
+        draw_run_options(self.layout, self)  # the redo panel: grouped, without path_edges
+
     def invoke(self, context, event):
         options_from_panel(self, context, GeodesicOptions.__annotations__)
-        if bpy.app.background or context.window is None:
-            return self.execute(context)
+        targets, skipped = target_objects(context)
+        if bpy.app.background or context.window is None or len(targets) != 1:
+            return self.execute(context)  # several objects: one after the other, each with its progress
+        if skipped:
+            self.report({"WARNING"}, skipped_message(skipped))
         running = BackgroundBuild.running()
         if running is not None:
             self.report({"WARNING"}, f"Geodesic distance: {running.busy_message()}")
             return {"CANCELLED"}
         try:
-            run = prepare_run(context.active_object, **self.call_options())
+            run = prepare_run(targets[0], **self.call_options())
             if run.solver is not None:  # cached: only the query is left, no thread needed
-                obj = context.active_object
-                return report_result(context, finish_run(run, obj=obj), self.report, obj, self.isoline_material)
+                obj = targets[0]
+                return report_result(context, finish_run(run, obj=obj), self.report, obj, self.isoline_material,
+                                     self.space)
         except REPORTED_ERRORS as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
@@ -231,20 +246,29 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
             modal.cancel()
 
     def execute(self, context):
-        obj = context.active_object
+        """Measure every target (:func:`~.targets.target_objects`) on its own; name those left out."""
+        targets, skipped = target_objects(context)
         wm = context.window_manager
-        wm.progress_begin(0, 100)
+        done = []
+        for obj in targets:
+            wm.progress_begin(0, 100)
 
-        def progress(fraction, message):
-            wm.progress_update(int(100 * fraction))
-            _status(context, f"Geodesic distance: {message}")
+            def progress(fraction, message, name=obj.name):
+                wm.progress_update(int(100 * fraction))
+                _status(context, f"Geodesic distance ({name}): {message}")
 
-        try:
-            result = compute_geodesic_distance(obj, progress=progress, **self.call_options())
-        except (AddonError, heatcore.HeatcoreError) as exc:
-            self.report({"ERROR"}, str(exc))
-            return {"CANCELLED"}
-        finally:
-            wm.progress_end()
-            _status(context, None)
-        return report_result(context, result, self.report, obj, self.isoline_material)
+            try:
+                done.append((obj, compute_geodesic_distance(obj, progress=progress, **self.call_options())))
+            except REPORTED_ERRORS as exc:
+                if len(targets) == 1 and not skipped:
+                    self.report({"ERROR"}, str(exc))
+                    return {"CANCELLED"}
+                skipped.append((obj.name, str(exc)))
+            finally:
+                wm.progress_end()
+                _status(context, None)
+        for obj, result in done:
+            report_result(context, result, self.report, obj, self.isoline_material, self.space)
+        if skipped:
+            self.report({"WARNING"} if done else {"ERROR"}, skipped_message(skipped))
+        return {"FINISHED"} if done else {"CANCELLED"}

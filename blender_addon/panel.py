@@ -8,7 +8,7 @@ factor, the accuracy, the outputs); the solver's technical settings
 
 import bpy
 
-from .legend import VIEW3D_PT_heat_geodesic_legend
+from .legend import VIEW3D_PT_heat_geodesic_legend, format_distance
 
 
 class VIEW3D_PT_heat_geodesic(bpy.types.Panel):
@@ -78,7 +78,7 @@ class VIEW3D_PT_heat_geodesic(bpy.types.Panel):
             box = layout.box()
             box.label(text=f"Last: {stats.object_name}", icon="INFO")
             box.label(text=f"{stats.vertices:,} vertices, {stats.sources:,} sources")
-            box.label(text=f"Max distance {stats.max_distance:.4g}")
+            box.label(text=f"Max distance {format_distance(stats.max_distance, stats.space, context.scene)}")
             solver = "cached solver" if stats.cached else f"solver {stats.solver_seconds:.2f} s"
             box.label(text=f"{stats.seconds:.2f} s ({solver})")
 

@@ -21,6 +21,7 @@ from bpy.props import BoolProperty
 
 from ._heatcore import heatcore
 from .adapters import AddonError
+from .legend import format_distance
 from .operator import options_from_panel, poll_editable_mesh
 from .path_api import geodesic_path
 from .properties import GeodesicOptions
@@ -61,12 +62,12 @@ class MESH_OT_heat_geodesic_path(GeodesicOptions, bpy.types.Operator):
             return {"CANCELLED"}
         for note in result.warnings:
             self.report({"WARNING"}, note)
-        units = "scene units" if self.space == "WORLD" else "object units"
+        length = format_distance(result.length, self.space, context.scene)
         edges = f", {len(result.edges):,} edges selected" if self.path_edges else ""
         route = (f"Geodesic path through {len(result.waypoints)} vertices{' and back to the first' * self.closed}"
                  if len(result.waypoints) > 2 or self.closed else
                  f"Geodesic path from vertex {result.source} to {result.target}")
         self.report({"INFO"}, f"{route}: length "
-                              f"{result.length:.6g} {units}, {len(result.points):,} points in {result.curve.name!r}"
+                              f"{length}, {len(result.points):,} points in {result.curve.name!r}"
                               f"{edges} ({result.seconds:.2f} s)")
         return {"FINISHED"}

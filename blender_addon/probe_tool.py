@@ -22,6 +22,7 @@ Examples
 """
 
 
+import os
 import time
 
 import bpy
@@ -328,7 +329,9 @@ class MESH_OT_heat_geodesic_probe(bpy.types.Operator):
     bl_label = "Geodesic Probe"
     bl_options = {"REGISTER", "UNDO"}
 
-    release_confirms: BoolProperty(name="Release Confirms", default=False, options={"HIDDEN", "SKIP_SAVE"})
+    release_confirms: BoolProperty(name="Release Confirms", default=False, options={"HIDDEN", "SKIP_SAVE"},
+                                   description="Apply the distance when the mouse button is released (the toolbar "
+                                               "tool's click-and-drag)")
     path_curve: BoolProperty(
         name="Path Curve",
         description="When applied, also write the geodesic path to the target as a curve object "
@@ -353,6 +356,7 @@ class MESH_OT_heat_geodesic_probe(bpy.types.Operator):
         settings = context.scene.heat_geodesic
         options = settings.call_options()
         options.pop("vertex_group")
+        options.pop("selected")  # the probe's sources are the points clicked
         if options.pop("new_object"):
             self.report({"WARNING"}, "Geodesic probe: measured on the object itself (Apply All Modifiers is off "
                                      "for the probe)")
@@ -394,12 +398,17 @@ class MESH_OT_heat_geodesic_probe(bpy.types.Operator):
         return {"CANCELLED"}
 
 
+#: The tool's own toolbar icon (a source point and its isolines; ``scripts/make_probe_icon.py`` draws it): the
+#: path of its ``.dat`` file without the extension, as Blender takes it.
+ICON = os.path.join(os.path.dirname(__file__), "icons", "ops.mesh.heat_geodesic_probe")
+
+
 class _ProbeTool:
     bl_space_type = "VIEW_3D"
     bl_label = "Geodesic Probe"
     bl_description = ("Click on a mesh to see the geodesic distance from that point; drag to move it, release to "
                       "apply. Shift+click adds a source, Ctrl+click draws the path to a target")
-    bl_icon = "ops.view3d.ruler"
+    bl_icon = ICON
     bl_widget = None
     bl_keymap = tuple(
         (OPERATOR, {"type": "LEFTMOUSE", "value": "PRESS", **modifier}, {"properties": [("release_confirms", True)]})

@@ -37,6 +37,7 @@ from .api import (
     options,
 )
 from .stages import FRONT_END_OPTIONS
+from .tooltips import choice_help, option_help
 from .uvmap import DEFAULT_UV_MAP
 
 #: heatcore options that are properties here: those the Blender front end offers, in the table's order.
@@ -58,13 +59,18 @@ SHAPE_ITEMS = [
 ]
 
 POLYGON_ITEMS = [
-    ("AUTO", "Keep Polygons", ("Measure quads and n-gons as polygons (heatcore's PolygonMesh, more accurate than "
-                               "their triangles); triangle meshes, High accuracy and Robust off use the loop triangles")),
+    ("AUTO", "Keep Polygons", ("Measure quads and n-gons as polygons (more accurate than their triangles); "
+                               "triangle meshes, High accuracy and Robust off use the loop triangles")),
     ("TRIANGULATE", "Triangulate", "Always measure the mesh's loop triangles"),
 ]
 
+SPACE_HELP = "Coordinates the distance is measured in: with the object's transform (scene units) or without"
+SHAPE_HELP = "Which shape of the mesh is measured: as displayed (shape keys, deform modifiers) or as stored"
+
 SOURCE_ITEMS = [
     ("SELECTED", "Selected Vertices", "Use the selected vertices as sources"),
+    ("EDGES", "Selected Edges", "Distance to the selected edges: 0 all along them, not only at their vertices"),
+    ("FACES", "Selected Faces", "Distance to the selected faces (a region): 0 inside it, measured from its border"),
     ("VERTEX_GROUP", "Vertex Group", "Use the members of a vertex group as sources"),
 ]
 
@@ -78,11 +84,14 @@ def option_property(name, front_end="blender"):
     1.0
     """
     opt = options.OPTIONS[name]
-    kw = {"name": opt.ui_label or opt.label.title(), "description": opt.help, "default": opt.default_for(front_end)}
+    kw = {"name": opt.ui_label or opt.label.title(), "description": option_help(name, opt.help),
+          "default": opt.default_for(front_end)}
     if opt.switch_help:  # on: the core's default; off: None
-        return BoolProperty(**{**kw, "description": opt.switch_help, "default": kw["default"] is not None})
+        return BoolProperty(**{**kw, "description": option_help(name, opt.switch_help),
+                               "default": kw["default"] is not None})
     if opt.choices:
-        items = [(c, CHOICE_LABELS.get(c, c.capitalize()), text) for c, text in zip(opt.choices, opt.choice_help)]
+        items = [(c, CHOICE_LABELS.get(c, c.capitalize()), choice_help(name, c, text))
+                 for c, text in zip(opt.choices, opt.choice_help)]
         return EnumProperty(items=items, **kw)
     if opt.specials:  # words or whole numbers in a range (refine: "auto" or 0..8): a menu of them
         return EnumProperty(items=special_items(opt), **kw)
@@ -93,6 +102,8 @@ def option_property(name, front_end="blender"):
     limits = {k: v for k, v in limits.items() if v is not None}
     if opt.type is int:
         return IntProperty(**kw, **limits)
+    if "a length" in (opt.unit or ""):  # shown in the scene's units (weight_radius)
+        limits["subtype"] = "DISTANCE"
     return FloatProperty(**kw, **limits)
 
 
@@ -104,9 +115,9 @@ def special_items(opt):
     >>> [item[0] for item in special_items(options.OPTIONS["refine"])][:3]  # doctest: +SKIP
     ['auto', '0', '1']
     """
-    words = [(word, word.capitalize(), f"{opt.ui_label or opt.label.title()}: {word} (see the description)")
-             for word in opt.specials]
-    return words + [(str(k), str(k), f"{opt.ui_label or opt.label.title()}: {k}") for k in range(opt.low, opt.high + 1)]
+    label = opt.ui_label or opt.label.title()
+    words = [(word, word.capitalize(), f"{label}: {word} (see the description)") for word in opt.specials]
+    return words + [(str(k), str(k), f"{label}: {k} level{'s' * (k != 1)}") for k in range(opt.low, opt.high + 1)]
 
 
 def _none_stand_in(opt):
@@ -138,11 +149,13 @@ def option_value(name, value):
 class GeodesicOptions:
     """Options of one run (mixin for the operator and the scene settings)."""
 
-    source: EnumProperty(name="Sources", items=SOURCE_ITEMS, default="SELECTED")
+    source: EnumProperty(name="Sources", items=SOURCE_ITEMS, default="SELECTED",
+                         description="Where the distance is measured from")
     vertex_group: StringProperty(name="Source Group", description="Vertex group whose members are the sources")
-    polygons: EnumProperty(name="Polygons", items=POLYGON_ITEMS, default="AUTO")
+    polygons: EnumProperty(name="Polygons", items=POLYGON_ITEMS, default="AUTO",
+                           description="How quads and n-gons are measured: as polygons or as their triangles")
     attribute: StringProperty(
-        name="Attribute", description="FLOAT point attribute that receives the distance", default=DEFAULT_ATTRIBUTE
+        name="Attribute", description="Float point attribute that receives the distance", default=DEFAULT_ATTRIBUTE
     )
     normalize: BoolProperty(name="Normalize", description="Store distance / max distance (0..1)", default=False)
     color_attribute: StringProperty(
@@ -161,8 +174,8 @@ class GeodesicOptions:
         description="Vertex group that receives the weights; it must not share its name with an attribute",
         default=DEFAULT_WEIGHT_GROUP,
     )
-    space: EnumProperty(name="Space", items=SPACE_ITEMS, default="WORLD")
-    shape: EnumProperty(name="Shape", items=SHAPE_ITEMS, default="EVALUATED")
+    space: EnumProperty(name="Space", items=SPACE_ITEMS, default="WORLD", description=SPACE_HELP)
+    shape: EnumProperty(name="Shape", items=SHAPE_ITEMS, default="EVALUATED", description=SHAPE_HELP)
     new_object: BoolProperty(
         name="Apply All Modifiers (New Object)",
         description="Measure the whole evaluated mesh, Subdivision, Mirror and other modifiers that change the "
@@ -179,7 +192,8 @@ class GeodesicOptions:
     )
     isoline_spacing: FloatProperty(
         name="Spacing",
-        description="Distance between the material's isolines (0: the largest distance / Isolines)",
+        description="Distance between the material's isolines (0: the largest distance / (Isolines + 1), the "
+                    "spacing of the stripes in the distance colors)",
         default=0.0, min=0.0, soft_max=10.0, subtype="DISTANCE",
     )
     path_edges: BoolProperty(
@@ -199,6 +213,7 @@ class GeodesicOptions:
         """Keyword arguments of :func:`compute_geodesic_distance` for these options."""
         return dict(
             vertex_group=self.vertex_group if self.source == "VERTEX_GROUP" else None,
+            selected=self.source if self.source in ("EDGES", "FACES") else "VERTICES",
             attribute=self.attribute,
             color_attribute=self.color_attribute,
             colormap=self.colormap,
@@ -269,6 +284,7 @@ class HeatGeodesicStats(bpy.types.PropertyGroup):
     vertices: IntProperty()
     sources: IntProperty()
     max_distance: FloatProperty()
+    space: StringProperty(default="WORLD")
     seconds: FloatProperty()
     solver_seconds: FloatProperty()
     cached: BoolProperty()

@@ -32,6 +32,7 @@ from . import adapters
 from ._heatcore import heatcore
 from .adapters import AddonError
 from .cache import IDENTITY, SOLVERS, Placement, geometry_key, placed, same_key
+from .elements import domain_sources, selected_elements
 from .outputs import OUTPUT_NAMES, check_outputs, write_outputs
 from .polygons import key_options, polygon_arrays, polygon_domain, use_polygons
 from .shape import (
@@ -152,6 +153,8 @@ class PreparedRun:
     cached: bool = False
     solver_seconds: float = 0.0
     placement: object = IDENTITY
+    kinds: dict = None
+    triangle_faces: object = None
 
 
 def resolve_sources(obj, sources=None, vertex_group=None, F=None, notes=None):
@@ -165,12 +168,15 @@ def resolve_sources(obj, sources=None, vertex_group=None, F=None, notes=None):
     Raises
     ------
     AddonError
-        No source vertex, only loose ones, or indices outside the mesh.
+        No source vertex, only loose ones, indices outside the mesh, or an empty group name.
     """
     n = len(obj.data.vertices)
     if sources is not None:
         src = np.unique(np.asarray(sources, dtype=np.int64).ravel())
         what = "the given source list"
+    elif vertex_group == "":
+        raise AddonError(f"no source vertex group chosen for {obj.name!r}: pick one in Sources > Group, "
+                         "or set Sources to Selected Vertices")
     elif vertex_group:
         src = adapters.vertex_group_members(obj, vertex_group)
         what = f"vertex group {vertex_group!r}"
@@ -281,7 +287,7 @@ def read_triangles(obj, topology, new_object=False):
 
 
 def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="EVALUATED", new_object=False,
-                progress=None, sources_later=False, polygons="AUTO", **run_options):
+                progress=None, sources_later=False, polygons="AUTO", selected="VERTICES", **run_options):
     """Stage 1 (main thread): check everything, read the mesh and the sources, look up the cached solver.
 
     Takes the arguments of :func:`~.api.compute_geodesic_distance`: the output
@@ -292,7 +298,9 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
     sources (``run.sources`` is empty): the caller places them afterwards
     (the probe's points on faces, :mod:`.probe`) and measures loop
     triangles. ``polygons``: :mod:`.polygons` (``"AUTO"``: a mesh with
-    n-gons is measured as polygons).
+    n-gons is measured as polygons). ``selected="FACES"`` or ``"EDGES"``: the
+    selected faces (a region) or edges are the sources (:mod:`.elements`;
+    ``run.sources`` holds their vertices, ``run.kinds`` the elements).
 
     Returns
     -------
@@ -315,8 +323,17 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
     if len(mesh.vertices) == 0:
         raise AddonError(f"mesh {mesh.name!r} has no vertices")
     notes = []
-    corners, _ = adapters.topology(mesh)  # every vertex a face uses (loose sources are dropped)
-    src = np.zeros(0, dtype=np.int64) if sources_later else resolve_sources(obj, sources, vertex_group, corners, notes)
+    corners, triangle_faces = adapters.topology(mesh)  # every vertex a face uses (loose sources are dropped)
+    kinds = None
+    if sources_later:
+        src = np.zeros(0, dtype=np.int64)
+    elif selected != "VERTICES" and sources is None and vertex_group is None:
+        if new_object:
+            raise AddonError("selected faces or edges as sources measure the object itself: turn Apply All "
+                             "Modifiers (New Object) off, or use Selected Vertices")
+        src, kinds = selected_elements(obj, selected, notes)
+    else:
+        src = resolve_sources(obj, sources, vertex_group, corners, notes)
     if new_object:
         if shape != "EVALUATED":
             raise AddonError("new_object=True measures the evaluated mesh: it needs shape='EVALUATED'")
@@ -337,6 +354,7 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
         points_only=points_only, outputs=outputs, key=key, start=start, notes=notes, new_object=new_object,
         cache_id=(COPY_MARKER, obj.session_uid) if new_object else ("polygons", mesh.session_uid) if as_polygons
         else mesh.session_uid, as_polygons=as_polygons,  # a mesh's polygon and triangle solvers: side by side
+        kinds=kinds, triangle_faces=triangle_faces,
     )
     entry = SOLVERS.entry(run.cache_id, key)  # built on this shape, maybe elsewhere or at another uniform scale
     if entry is not None and not covers(entry[1].domain, src, sources_later or new_object):
@@ -448,7 +466,11 @@ def finish_run(run, progress=None, obj=None):
         obj = evaluated_copy(obj)
         sources = np.unique(nearest_vertices(obj, run.sources))
     progress(0.8, "solving for the distance")
-    d = run.placement.distance(run.solver.distance(sources))
+    if run.kinds:  # selected faces or edges: the distance to their union
+        d = run.placement.distance(run.solver.distance(**domain_sources(run.solver.domain, run.kinds,
+                                                                        run.triangle_faces)))
+    else:
+        d = run.placement.distance(run.solver.distance(sources))
     hint = None if run.points_only else merge_hint(run.V, d, run.settings.mesh.weld)
     if hint:
         run.notes.append(hint)

@@ -22,8 +22,17 @@ from mathutils import Vector
 
 from ._heatcore import heatcore
 from .adapters import AddonError
+from .legend import format_distance
 from .operator import options_from_panel, poll_editable_mesh
-from .properties import SHAPE_ITEMS, SPACE_ITEMS, UVMapOptions, option_property, option_value
+from .properties import (
+    SHAPE_HELP,
+    SHAPE_ITEMS,
+    SPACE_HELP,
+    SPACE_ITEMS,
+    UVMapOptions,
+    option_property,
+    option_value,
+)
 from .uvmap import VECTOR_OPTIONS, geodesic_uv_map
 
 #: The UV map's solver and mesh options that are the distance's (all but ``accuracy``: ``uv_accuracy``).
@@ -58,8 +67,8 @@ class MESH_OT_heat_geodesic_uv_map(UVMapOptions, bpy.types.Operator):
 
     vertex: IntProperty(name="Vertex", default=-1, min=-1,
                         description="Source vertex (-1: the active vertex in Edit Mode)")
-    space: EnumProperty(name="Space", items=SPACE_ITEMS, default="WORLD")
-    shape: EnumProperty(name="Shape", items=SHAPE_ITEMS, default="EVALUATED")
+    space: EnumProperty(name="Space", items=SPACE_ITEMS, default="WORLD", description=SPACE_HELP)
+    shape: EnumProperty(name="Shape", items=SHAPE_ITEMS, default="EVALUATED", description=SHAPE_HELP)
     view_up: FloatVectorProperty(name="View Up", size=3, default=(0.0, 0.0, 0.0), options={"HIDDEN", "SKIP_SAVE"},
                                  description="The 3D View's up direction when invoked (zero: none)")
 
@@ -95,8 +104,9 @@ class MESH_OT_heat_geodesic_uv_map(UVMapOptions, bpy.types.Operator):
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
         missed = f", {result.unreached:,} vertices unreached (UV 0, 0)" if result.unreached else ""
-        self.report({"INFO"}, f"UV map {result.name!r}: 1 UV unit = {result.unit:.4g}, farthest vertex "
-                              f"{result.max_distance:.4g} from the source{missed}, {result.seconds:.2f} s")
+        unit, far = (format_distance(value, self.space, context.scene) for value in (result.unit, result.max_distance))
+        self.report({"INFO"}, f"UV map {result.name!r}: 1 UV unit = {unit}, farthest vertex "
+                              f"{far} from the source{missed}, {result.seconds:.2f} s")
         return {"FINISHED"}
 
 

@@ -59,7 +59,7 @@ def test_grid_curves_lie_at_the_levels_on_the_displayed_scaled_shape(addon):
     d = set_distance(obj, np.linalg.norm(V0[:, :2] - V0[0, :2], axis=1))  # exact distance from a corner
     assert curves(obj, count=5) == {"FINISHED"}
     (target,) = ours()
-    assert target.name == f"{obj.name} Isolines" and target.parent is obj and target[MARKER] == obj.name
+    assert target.name == f"{obj.name} Geodesic Isolines" and target.parent is obj and target[MARKER] == obj.name
 
     V, F = evaluated_arrays(obj)
     np.testing.assert_allclose(V[:, 2], 0.4, atol=1e-6)  # the displayed shape is not the base one
@@ -100,7 +100,7 @@ def test_sphere_latitudes_are_cyclic_splines_and_a_rerun_replaces_the_curve(addo
     assert curves(obj, count=2) == {"FINISHED"}
     assert len(ours()) == 1 and len(ours()[0].data.splines) == 2
     assert sorted(bpy.data.curves.keys()) == names  # the old curve is gone, the new one has its name
-    assert ours()[0].data.name == "Icosphere Isolines"
+    assert ours()[0].data.name == "Icosphere Geodesic Isolines"
 
 
 def test_missing_attribute_is_refused_and_nothing_changes(addon):

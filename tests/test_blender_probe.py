@@ -663,7 +663,9 @@ def test_menus_panel_and_toolbar_have_the_probe(addon, mods):  # noqa: F811
                       ] if menu in addon.menus.CURVE_MENUS else []
             paths = [("mesh.heat_geodesic_path", "Geodesic Path", "INVOKE_REGION_WIN")
                      ] if menu in addon.menus.PATH_MENUS else []
-            assert ops == [("mesh.heat_geodesic_probe", "Geodesic Probe", "INVOKE_REGION_WIN"),
+            selects = [("mesh.heat_geodesic_select_within", "Within Geodesic Distance", "INVOKE_REGION_WIN")
+                       ] if menu == addon.menus.SELECT_MENU else []
+            assert ops == selects + [("mesh.heat_geodesic_probe", "Geodesic Probe", "INVOKE_REGION_WIN"),
                            ("mesh.heat_geodesic_distance", "Geodesic Distance", "INVOKE_REGION_WIN")] + curves + paths, menu
     from bl_ui.space_toolsystem_common import ToolSelectPanelHelper
 

@@ -292,6 +292,8 @@ def test_blender_properties_are_the_declared_ones(blender_properties):
     import bpy
 
     annotations = blender_properties.GeodesicOptions.__annotations__
+    tooltips = sys.modules[blender_properties.__name__.rpartition(".")[0] + ".tooltips"]
+    help_, choice_help = tooltips.option_help, tooltips.choice_help  # blender_addon/tooltips.py
     declared = [n for n in annotations if n in OPTIONS]
     assert declared == list(blender_properties.HEATCORE_OPTIONS)
     assert "time_factor" not in annotations
@@ -299,17 +301,18 @@ def test_blender_properties_are_the_declared_ones(blender_properties):
         opt, prop = OPTIONS[name], annotations[name]
         kw = prop.keywords
         if opt.switch_help:  # an on/off switch (weld): off is None, on the core's default
-            assert prop.function is bpy.props.BoolProperty and kw["description"] == opt.switch_help, name
+            assert prop.function is bpy.props.BoolProperty and kw["description"] == help_(name, opt.switch_help), name
             assert kw["default"] is (opt.default_for("blender") is not None) and opt.none_means, name
             assert blender_properties.option_value(name, False) is None, name
             assert blender_properties.option_value(name, True) == opt.check(opt.default) == opt.default, name
             continue
-        assert kw["description"] == opt.help, name
+        assert kw["description"] == help_(name, opt.help), name  # the declared help, as a Blender user reads it
         assert kw["default"] == opt.default_for("blender"), name
         if opt.choices:
             assert prop.function is bpy.props.EnumProperty
             assert [item[0] for item in kw["items"]] == list(opt.choices)
-            assert [item[2] for item in kw["items"]] == list(opt.choice_help)
+            assert [item[2] for item in kw["items"]] == [choice_help(name, c, text)
+                                                        for c, text in zip(opt.choices, opt.choice_help)]
         elif opt.specials:  # words or the numbers of the range (refine: "auto" or 0..8), each back to its value
             assert prop.function is bpy.props.EnumProperty, name
             values = [*opt.specials, *range(opt.low, opt.high + 1)]
