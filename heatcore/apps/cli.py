@@ -50,6 +50,7 @@ from .arguments import (  # noqa: F401 (add_*_options, solver_option_names: part
     meshlab_arguments,
     settings_of,
     solver_option_names,
+    source_text,
 )
 from .inputs import check_sources, command_line_sources, gather_sources, read_mesh_file
 from .logmap import run_logmap
@@ -368,7 +369,7 @@ def run_batch_command(args):
     """
     from .batch import SUMMARY_NAME, parse_sources, run_batch
 
-    spec = parse_sources(args.sources, suffix=args.sources_file_suffix, union=args.union)
+    spec = parse_sources(source_text(args.sources), suffix=args.sources_file_suffix, union=args.union)
     rows = run_batch(args.inputs, args.output_dir, spec, scheduler=args.scheduler, workers=args.workers,
                      max_memory_mb=args.max_memory, settings=settings_of(args, "batch"), progress=not args.quiet,
                      resume_only=args.resume_only)

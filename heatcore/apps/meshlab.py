@@ -45,6 +45,7 @@ import numpy as np
 from .. import options
 from ..errors import HeatcoreError, InvalidMeshError, InvalidOptionError, InvalidSourceError
 from ..settings import FRONT_END_OPTIONS, Settings
+from .inputs import SOURCE_FLAGS, SourcesAction
 from .meshlab_filter import (  # noqa: F401 - re-exported: the filter's public names
     COLORMAP_CHOICES,
     DEFAULT_ATTRIBUTE,
@@ -105,13 +106,16 @@ def add_arguments(parser):
     >>> args = p.parse_args(["scan.obj", "--sources", "0", "17", "--colormap", "meshlab-turbo"])
     >>> args.sources, args.colormap, args.ascii
     ([0, 17], 'meshlab-turbo', False)
+    >>> p.parse_args(["scan.obj", "-s", "0,17"]).sources
+    [0, 17]
     """
     parser.add_argument("input", help="mesh file (PLY, OBJ, OFF, STL, ... anything pymeshlab reads)")
     parser.add_argument("-o", "--output", help="output PLY (default: INPUT stem + '_distance.ply')")
     src = parser.add_mutually_exclusive_group()
     src.add_argument(
-        "--sources", type=int, nargs="+", metavar="VERTEX",
-        help="source vertex indices (replace the file's selection)",
+        *SOURCE_FLAGS, dest="sources", action=SourcesAction, metavar="VERTEX",
+        help="source vertex indices, 0-based (replace the file's selection): -s 0 17, -s 0,17 and -s 0 -s 17 "
+             "mean the same (also --source, --sources)",
     )  # fmt: skip
     src.add_argument(
         "--select", metavar="CONDITION",

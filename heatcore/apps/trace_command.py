@@ -35,6 +35,7 @@ from pathlib import Path
 
 from .. import options
 from .arguments import add_common_options, solver_option_names
+from .inputs import SourcesAction
 from .outputs import UsageError
 from .path_command import surface_point
 from .polylines import (
@@ -94,7 +95,8 @@ def trace_arguments(p):
     ((5, [0.2, 0.3, 0.5]), [1.0, 0.0, 0.0], 2.0)
     """
     add_polyline_arguments(p)
-    p.add_argument("--from", dest="start", type=surface_point, required=True, metavar="POINT",
+    p.add_argument("--from", dest="start", action=SourcesAction, parse=surface_point, single=True, what="start point",
+                   required=True, metavar="POINT",
                    help="where the trace starts: a vertex index, or FACE:B0,B1,B2 for a point inside a face")
     p.add_argument("--direction", type=float, nargs="+", required=True, metavar="X",
                    help="X Y Z: a 3D vector, projected on the tangent plane at the start; or X Y: coordinates in "
