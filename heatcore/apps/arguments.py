@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import options
+from ..io.curves import curve_formats_help
 from ..io.mesh import short
 from ..settings import FRONT_END_OPTIONS, Settings
 from .inputs import SOURCE_FLAGS, SourcesAction, parse_non_negative_int, parse_positive_float
@@ -251,9 +252,8 @@ def distance_arguments(p):
     add_output_options(p, png_help="also write a PNG picture of the distance field (matplotlib); "
                                    "a name ending in .png")
     p.add_argument("--isolines-out", nargs=2, action=_IsolinesOut, default=None, metavar=("PATH", "N"),
-                   help="also write N isoline curves of the distance as polylines in an OBJ file (v and l "
-                        "elements: edges in MeshLab and Blender), at max*j/(N+1) for j = 1..N, the levels of "
-                        "the PNG's lines")
+                   help="also write N isoline curves of the distance as polylines, at max*j/(N+1) for j = 1..N "
+                        "(the levels of the PNG's lines); format by extension: " + curve_formats_help())
     add_solver_options(p)
     add_common_options(p)
 

@@ -51,14 +51,15 @@ from .reporting import timed_stage
 
 log = logging.getLogger("heatcore.apps.cli")
 
-PATH_HELP = "the geodesic path between two points of a triangle mesh, as a polyline (.obj, .ply, .csv)"
+PATH_HELP = "the geodesic path between two points of a triangle mesh, as a polyline (.obj, .vtk, .ply, .csv)"
 PATH_DESCRIPTION = (
     "Shortest path on the surface of a triangle mesh between two points, each a vertex index (0-based) "
     "or a point inside a face, FACE:B0,B1,B2 (face index and barycentric coordinates), or through waypoints "
     "(--through, one geodesic per leg; --closed back to the first). The heat "
     "distance from the first point picks the route, which is then straightened into an exact geodesic "
     "on the mesh's faces. Output by extension: .obj (v and l elements: an edge mesh in MeshLab, edges "
-    "in Blender), .ply (vertex and edge elements), .csv (x,y,z). The length is printed."
+    "in Blender), .vtk (VTK line cells), .ply (vertex and edge elements), .csv (x,y,z); which reader keeps "
+    "the segments: see -o. The length is printed."
 )
 
 

@@ -49,13 +49,14 @@ from .reporting import timed_stage
 
 log = logging.getLogger("heatcore.apps.cli")
 
-TRACE_HELP = "the straightest geodesic from a point along a direction, as a polyline (.obj, .ply, .csv)"
+TRACE_HELP = "the straightest geodesic from a point along a direction, as a polyline (.obj, .vtk, .ply, .csv)"
 TRACE_DESCRIPTION = (
     "Trace the straightest geodesic on the surface of a triangle mesh from a point (a vertex index, or "
     "FACE:B0,B1,B2 inside a face) along a direction (X Y Z, projected on the tangent plane; or X Y in the "
     "start vertex's tangent basis) for a length: straight across every face and edge, with half the angle "
     "on either side where it meets a vertex, stopping at the length or the boundary. Output by extension: "
-    ".obj (v and l elements), .ply (vertex and edge elements), .csv (x,y,z). The length travelled, why it "
+    ".obj (v and l elements), .vtk (VTK line cells), .ply (vertex and edge elements), .csv (x,y,z); which "
+    "reader keeps the segments: see -o. The length travelled, why it "
     "stopped and the end point (FACE:B0,B1,B2, a start for another trace) are printed."
 )
 
