@@ -299,7 +299,9 @@ def demo_arguments(p):
 
 
 def meshlab_arguments(p):
-    """Add the arguments of ``heatcore meshlab`` (:func:`heatcore.apps.meshlab.add_arguments`) and ``--quiet``.
+    """Add the arguments of ``heatcore meshlab``: those of the MeshLab script (:func:`heatcore.apps.meshlab.add_arguments`).
+
+    The script's flags and this command's are the same, ``-q`` included.
 
     Examples
     --------
@@ -312,7 +314,6 @@ def meshlab_arguments(p):
     from . import meshlab
 
     meshlab.add_arguments(p)
-    add_common_options(p)
 
 
 def batch_arguments(p):

@@ -321,7 +321,12 @@ def run_meshlab(args):
     """
     from . import meshlab
 
-    print(meshlab.format_report(meshlab.run(args), as_json=args.json))
+    try:
+        stats = meshlab.run(args)
+    except HeatcoreError as exc:  # every refusal is a usage or input problem (docs/meshlab.md): status 2
+        exc.exit_status = meshlab.EXIT_INPUT_ERROR
+        raise
+    print(meshlab.format_report(stats, as_json=args.json))
     return 0
 
 
