@@ -72,6 +72,7 @@ from .reporting import (
     distance_summary,
     format_seconds,
     show_warning,
+    source_parts,
     timed_stage,
 )
 from .signed_command import SIGNED_DESCRIPTION, SIGNED_HELP, run_signed, signed_arguments
@@ -112,14 +113,24 @@ def build_solver(source, settings, only_parts_of=None):
     """
     from .. import HeatSolver
 
-    domain_progress, solver_progress = build_progress(len(source.vertices))
+    domain_progress, solver_progress = build_progress(*_work_ahead(source, settings, only_parts_of))
     with timed_stage("precompute"):
         domain = source.domain(settings.mesh, progress=domain_progress, only_parts_of=only_parts_of)
+        welded = getattr(domain, "n_welded", 0)
+        if welded:  # said when it happens: before the solver's lines
+            log.info("welded %s coincident vertices: %s remain", f"{welded:,}", f"{len(source.vertices) - welded:,}")
         solver = HeatSolver(domain, settings.solver, progress=solver_progress)
-    welded = getattr(solver.domain, "n_welded", 0)
-    if welded:
-        log.info("welded %s coincident vertices: %s remain", f"{welded:,}", f"{len(source.vertices) - welded:,}")
     return solver
+
+
+def _work_ahead(source, settings, only_parts_of):
+    """The solver vertices and parts a build will have (what decides its progress lines), from the file's faces."""
+    from ..domains.refine import work_ahead
+
+    if source.kind != "triangle" or source.surface is None or not len(source.surface):
+        return len(source.vertices), 1
+    refine = settings.mesh.refine
+    return work_ahead(source.surface, len(source.vertices), refine, only_parts_of)
 
 
 # --------------------------------------------------------------------------- registry
@@ -218,7 +229,7 @@ def run_distance(args):
         raise InvalidMeshError(f"{args.mesh}: {exc}") from exc
     with timed_stage("query"):
         d = solver.distance(sources)
-    log.info("%s", distance_summary(d))
+    log.info("%s", distance_summary(d, source_parts(solver, sources)))
     cells = mesh.cells if mesh.kind == "tet" else mesh.surface
     with timed_stage("write"):
         for out in args.output:
