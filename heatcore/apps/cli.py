@@ -129,8 +129,10 @@ def _work_ahead(source, settings, only_parts_of):
 
     if source.kind != "triangle" or source.surface is None or not len(source.surface):
         return len(source.vertices), 1
-    refine = settings.mesh.refine
-    return work_ahead(source.surface, len(source.vertices), refine, only_parts_of)
+    try:
+        return work_ahead(source.surface, len(source.vertices), settings.mesh.refine, only_parts_of)
+    except (ValueError, IndexError):  # an estimate never stops a run: the build says what is wrong
+        return len(source.vertices), 1
 
 
 # --------------------------------------------------------------------------- registry

@@ -121,18 +121,24 @@ def work_ahead(faces, n_vertices, refine="auto", only_parts_of=None):
     >>> F = np.array([[0, 1, 2], [3, 4, 5]])
     >>> work_ahead(F, 6, refine=0), work_ahead(F, 6, refine=1), work_ahead(F, 6, only_parts_of=[0])
     ((6, 2), (12, 2), (16386, 1))
+    >>> work_ahead([[0, 1, 99]], 6)  # faces that do not fit: the file's count (the build refuses them)
+    (6, 1)
     """
     from .parts import vertex_components
 
     faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
-    count, part = vertex_components(faces, int(n_vertices))
+    n_vertices = int(n_vertices)
+    if faces.size and (faces.min() < 0 or faces.max() >= n_vertices):  # the build will say what is wrong
+        return n_vertices, 1
+    count, part = vertex_components(faces, n_vertices)
     used = np.zeros(int(n_vertices), dtype=bool)
     used[faces.ravel()] = True
     sizes = np.bincount(part[used], minlength=count)
     keep = sizes > 0
     if only_parts_of is not None:
         holding = np.zeros(count, dtype=bool)
-        holding[part[np.asarray(only_parts_of, dtype=np.int64)]] = True
+        given = np.asarray(only_parts_of, dtype=np.int64).ravel()
+        holding[part[given[(given >= 0) & (given < n_vertices)]]] = True
         keep &= holding
     sizes = sizes[keep]
     if refine == "auto":
