@@ -122,3 +122,14 @@ def test_help_states_the_syntax(capsys):
         code, out, _ = run([name, "--help"], capsys)
         assert code == 0
         assert "-s 0,17" in " ".join(out.split()), name
+
+
+@pytest.mark.parametrize("through", [["--through", "0", "7", "35"], ["--through", "0,7,35"],
+                                     ["--through", "0", "--through", "7", "35"]])
+def test_path_through_every_spelling(grid_obj, tmp_path, capsys, through):
+    out = tmp_path / "p.csv"
+    code, stdout, err = run(["path", grid_obj, *through, "-o", out, *FAST], capsys)
+    assert code == 0, err
+    points = np.loadtxt(out, delimiter=",", skiprows=1)
+    np.testing.assert_allclose(points[0], [0, 0, 0])
+    np.testing.assert_allclose(points[-1], [5, 5, 0])
