@@ -129,7 +129,8 @@ class HeatSolver:
         self.timings = {}
         start = time.perf_counter()
         n = ops.n_vertices
-        self.boundary = settings.boundary if ops.boundary.any() else "neumann"
+        self.has_boundary = bool(ops.boundary.any())
+        self.boundary = settings.boundary if self.has_boundary else "neumann"  # the same heat where there is none
         # Orderings and the Laplacian's factor depend on the domain only: its cache shares them among its solvers.
         self.factors = SolverFactors(ops, domain.derived, settings, self.timings)
         # accuracy="high" with numba needs no factorization: they wait for a first use (heat_flow, poisson).
@@ -144,8 +145,9 @@ class HeatSolver:
             self.factors.defer(heat, progress)
         else:
             self.factors.build(heat, progress)
-        log.info("heat solver ready: %d operator vertices, %d components, t=%.3g..%.3g, boundary=%s (%.2f s)", n,
-                 self.n_components, self.t.min(), self.t.max(), self.boundary, sum(self.timings.values()))
+        boundary = f"boundary={self.boundary}" if self.has_boundary else "no boundary (closed)"
+        log.info("heat solver ready: %d operator vertices, %d part%s, t=%.3g..%.3g, %s (%.2f s)", n, self.n_components,
+                 "s" * (self.n_components != 1), self.t.min(), self.t.max(), boundary, sum(self.timings.values()))
         progress(1.0, "heat solver ready")
 
     def _heat_step(self, ops):

@@ -257,6 +257,20 @@ class Option:
 #: (:func:`heatcore.steps.time_step.underflow_safe_m`, about (hops / 400)^2) is not held to it.
 M_MAX = 1e6
 
+#: What one ``accuracy="high"`` query costs, in smooth queries of the same solver (its factorizations
+#: paid once): the range over six shared meshes of 2.9k-50k vertices (spot, homer, cheburashka,
+#: rocker-arm, stanford-bunny, nefertiti) and two runs, with numba (the ``fast`` extra's compiled fast
+#: marching) and without it (the vectorized eikonal pass). Measured with ``scripts/bench_high_cost.py``
+#: on 2026-11-28 (a busy 2-core virtual machine: each figure is a median of 15 queries). Every
+#: statement of the cost (the option's help, ``geodesic_distance``'s docstring, README, docs/*.md,
+#: pyproject.toml) says :data:`HIGH_ACCURACY_COST_TEXT`; ``tests/test_high_cost.py`` holds them to it.
+HIGH_ACCURACY_COST = {"numba": (1.1, 2.9), "vectorized": (6.4, 15.9)}
+
+#: The one sentence on :data:`HIGH_ACCURACY_COST`.
+HIGH_ACCURACY_COST_TEXT = (f"a query costs {'-'.join(f'{x:g}' for x in HIGH_ACCURACY_COST['numba'])} smooth ones "
+                           f"with the 'fast' extra (numba), {'-'.join(f'{x:g}' for x in HIGH_ACCURACY_COST['vectorized'])} "
+                           "without it")
+
 _OPTIONS = (
     Option(
         "m", "time factor", float, 1.0, "unitless (t = m h^2, h in mesh units)",
@@ -277,11 +291,12 @@ _OPTIONS = (
     ),
     Option(
         "accuracy", "accuracy", str, "smooth", "none (a choice)",
-        "smooth: the heat method (its error is 1-2%); high: an eikonal pass (about 0.1-0.3% error; a query "
-        "costs 2-3 smooth ones with the 'fast' extra, numba, and 10-40 without it)",
+        f"smooth: the heat method (its error is 1-2%); high: an eikonal pass (about 0.1-0.3% error; "
+        f"{HIGH_ACCURACY_COST_TEXT})",
         "solver", choices=("smooth", "high"),
         choice_help=("The heat method: smooth distance, about 1-2% error",
-                     "An eikonal pass: about 0.1-0.3% error, 2-40 times slower (see the docs)"),
+                     f"An eikonal pass: about 0.1-0.3% error, {HIGH_ACCURACY_COST['numba'][0]:g}-"
+                     f"{HIGH_ACCURACY_COST['vectorized'][1]:g} times slower (see the docs)"),
         flag="--accuracy", front_end_defaults=(("vector heat", "high", "high: the log map's radius"),
                                                ("blender uv map", "high", "high: the UV map's radii")),
     ),

@@ -185,7 +185,7 @@ def test_progress_lines_and_png(sphere_obj, tmp_path, capsys):
         ("missing", "mesh file not found", 1),
         ("garbage", "garbage.ply: not a PLY file (it does not start with 'ply')", 1),
         ("out-of-range", "source vertex 5000 is out of range: the mesh has 162 vertices", 1),
-        ("negative", "argument -s/--source: vertex indices are 0-based, got -1", 2),
+        ("negative", "argument -s/--source/--sources: vertex indices are 0-based, got -1", 2),
         ("no-sources", "no sources", 1),
         ("extension", "unknown extension", 2),
         ("sources-file", "line 2: 'x' is not a vertex index", 1),

@@ -40,7 +40,7 @@ def test_source_index_beyond_int64_is_a_usage_error(sphere, tmp_path, capsys, mo
     out = tmp_path / "d.npy"
     code, stdout, err = run(["distance", path, "-s", "99999999999999999999", "-o", out], capsys)
     assert code == 2 and stdout == ""
-    assert err == ("heatcore distance: error: argument -s/--source: vertex index 99999999999999999999 is too "
+    assert err == ("heatcore distance: error: argument -s/--source/--sources: vertex index 99999999999999999999 is too "
                    "large for any mesh (at most 9223372036854775807) (see 'heatcore distance --help')\n")
     assert not out.exists()
 

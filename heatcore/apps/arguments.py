@@ -24,9 +24,10 @@ from pathlib import Path
 import numpy as np
 
 from .. import options
+from ..io.curves import curve_formats_help
 from ..io.mesh import short
 from ..settings import FRONT_END_OPTIONS, Settings
-from .inputs import parse_non_negative_int, parse_positive_float, parse_vertex_index
+from .inputs import SOURCE_FLAGS, SourcesAction, parse_non_negative_int, parse_positive_float
 
 
 class OneLineErrorParser(argparse.ArgumentParser):
@@ -175,6 +176,34 @@ def _view(text):
     return {"azimuth": azimuth, "elevation": elevation}
 
 
+#: How every subcommand's sources are written (the help texts say it).
+SOURCES_SYNTAX = "-s 0 17, -s 0,17 and -s 0 -s 17 mean the same (also --source, --sources)"
+
+
+def is_source_keyword(word):
+    """Whether a source word names a whole specification (``heatcore batch``'s ``all``, ``farthest:K``).
+
+    Examples
+    --------
+    >>> is_source_keyword("all"), is_source_keyword("Farthest:8"), is_source_keyword("17")
+    (True, True, False)
+    """
+    return word.lower() == "all" or word.lower().startswith("farthest:")
+
+
+def source_text(sources):
+    """``batch``'s parsed sources as the text :func:`heatcore.apps.batch.parse_sources` reads (None stays None).
+
+    Examples
+    --------
+    >>> source_text([0, 17]), source_text("farthest:8"), source_text(None)
+    ('0,17', 'farthest:8', None)
+    """
+    if sources is None or isinstance(sources, str):
+        return sources
+    return ",".join(map(str, sources))
+
+
 def add_common_options(parser):
     """Add the options every subcommand has: ``-q/--quiet``.
 
@@ -198,6 +227,8 @@ def distance_arguments(p):
     >>> args = p.parse_args(["spot.obj", "-s", "0", "-s", "17", "-o", "d.npy"])
     >>> args.mesh.name, args.source, args.output, args.refine
     ('spot.obj', [0, 17], ['d.npy'], 'auto')
+    >>> p.parse_args(["spot.obj", "-s", "0", "17"]).source == p.parse_args(["spot.obj", "--sources", "0,17"]).source
+    True
     """
     p.add_argument("mesh", type=Path, metavar="MESH",
                    help="mesh file: PLY (keeps MeshLab's vertex selection), OBJ, OFF, STL, glTF, ...; "
@@ -205,8 +236,8 @@ def distance_arguments(p):
                         "(.xyz, or PLY/OBJ without faces)")
     options.add_argument(p, "domain")
     src = p.add_argument_group("sources (combined; default: the PLY's selected vertices)")
-    src.add_argument("-s", "--source", type=parse_vertex_index, action="append", metavar="INDEX",
-                     help="source vertex index (0-based); repeat for several sources")
+    src.add_argument(*SOURCE_FLAGS, dest="source", action=SourcesAction, metavar="INDEX",
+                     help=f"source vertex indices (0-based): {SOURCES_SYNTAX}")
     src.add_argument("--sources-file", type=Path, action="append", metavar="FILE",
                      help="text file of 0-based vertex indices separated by whitespace or commas "
                           "('#' starts a comment); may be repeated")
@@ -221,9 +252,8 @@ def distance_arguments(p):
     add_output_options(p, png_help="also write a PNG picture of the distance field (matplotlib); "
                                    "a name ending in .png")
     p.add_argument("--isolines-out", nargs=2, action=_IsolinesOut, default=None, metavar=("PATH", "N"),
-                   help="also write N isoline curves of the distance as polylines in an OBJ file (v and l "
-                        "elements: edges in MeshLab and Blender), at max*j/(N+1) for j = 1..N, the levels of "
-                        "the PNG's lines")
+                   help="also write N isoline curves of the distance as polylines, at max*j/(N+1) for j = 1..N "
+                        "(the levels of the PNG's lines); format by extension: " + curve_formats_help())
     add_solver_options(p)
     add_common_options(p)
 
@@ -269,7 +299,9 @@ def demo_arguments(p):
 
 
 def meshlab_arguments(p):
-    """Add the arguments of ``heatcore meshlab`` (:func:`heatcore.apps.meshlab.add_arguments`) and ``--quiet``.
+    """Add the arguments of ``heatcore meshlab``: those of the MeshLab script (:func:`heatcore.apps.meshlab.add_arguments`).
+
+    The script's flags and this command's are the same, ``-q`` included.
 
     Examples
     --------
@@ -282,7 +314,6 @@ def meshlab_arguments(p):
     from . import meshlab
 
     meshlab.add_arguments(p)
-    add_common_options(p)
 
 
 def batch_arguments(p):
@@ -295,6 +326,8 @@ def batch_arguments(p):
     >>> args = p.parse_args(["meshes/", "-o", "out", "--sources", "farthest:8", "-j", "2"])
     >>> args.inputs, args.output_dir.name, args.sources, args.workers, args.max_memory
     (['meshes/'], 'out', 'farthest:8', 2, 1024.0)
+    >>> p.parse_args(["meshes/", "-o", "out", "-s", "0", "17"]).sources
+    [0, 17]
     """
     p.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="folders (their mesh files), glob patterns (quote them) or mesh files")
@@ -303,8 +336,8 @@ def batch_arguments(p):
                         "skips a mesh whose NAME.npz was computed from the same file bytes, sources and "
                         "options (so it resumes), and recomputes one made from other inputs")
     src = p.add_argument_group("sources (give one)")
-    src.add_argument("--sources", metavar="SPEC",
-                     help="'0,17' (vertex indices: one row per source), 'all' (the full distance "
+    src.add_argument(*SOURCE_FLAGS, dest="sources", action=SourcesAction, keywords=is_source_keyword, metavar="SPEC",
+                     help=f"vertex indices (one row per source; {SOURCES_SYNTAX}), 'all' (the full distance "
                           "matrix, in blocks) or 'farthest:K' (K farthest-point samples by heat distance, "
                           "starting at vertex 0)")
     src.add_argument("--sources-file-suffix", metavar="SUFFIX",
@@ -341,8 +374,8 @@ def logmap_arguments(p):
     (970, [0.0, 1.0, 0.0], ['uv.ply'], 'high')
     """
     p.add_argument("mesh", type=Path, metavar="MESH", help="triangle mesh file (PLY, OBJ, OFF, STL, glTF, ...)")
-    p.add_argument("-s", "--source", type=parse_vertex_index, required=True, metavar="INDEX",
-                   help="the source vertex (0-based): the origin of the coordinates")
+    p.add_argument(*SOURCE_FLAGS, dest="source", action=SourcesAction, single=True, required=True, metavar="INDEX",
+                   help="the source vertex (0-based): the origin of the coordinates; one only")
     p.add_argument("--reference", type=float, nargs=3, default=None, metavar=("X", "Y", "Z"),
                    help="a direction at the source (3D, projected on its tangent plane) that becomes the +u "
                         "axis; default: the source's tangent basis (heatcore.VectorHeatSolver.tangent_basis)")

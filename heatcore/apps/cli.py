@@ -50,6 +50,7 @@ from .arguments import (  # noqa: F401 (add_*_options, solver_option_names: part
     meshlab_arguments,
     settings_of,
     solver_option_names,
+    source_text,
 )
 from .inputs import check_sources, command_line_sources, gather_sources, read_mesh_file
 from .logmap import run_logmap
@@ -71,6 +72,7 @@ from .reporting import (
     distance_summary,
     format_seconds,
     show_warning,
+    source_parts,
     timed_stage,
 )
 from .signed_command import SIGNED_DESCRIPTION, SIGNED_HELP, run_signed, signed_arguments
@@ -111,14 +113,26 @@ def build_solver(source, settings, only_parts_of=None):
     """
     from .. import HeatSolver
 
-    domain_progress, solver_progress = build_progress(len(source.vertices))
+    domain_progress, solver_progress = build_progress(*_work_ahead(source, settings, only_parts_of))
     with timed_stage("precompute"):
         domain = source.domain(settings.mesh, progress=domain_progress, only_parts_of=only_parts_of)
+        welded = getattr(domain, "n_welded", 0)
+        if welded:  # said when it happens: before the solver's lines
+            log.info("welded %s coincident vertices: %s remain", f"{welded:,}", f"{len(source.vertices) - welded:,}")
         solver = HeatSolver(domain, settings.solver, progress=solver_progress)
-    welded = getattr(solver.domain, "n_welded", 0)
-    if welded:
-        log.info("welded %s coincident vertices: %s remain", f"{welded:,}", f"{len(source.vertices) - welded:,}")
     return solver
+
+
+def _work_ahead(source, settings, only_parts_of):
+    """The solver vertices and parts a build will have (what decides its progress lines), from the file's faces."""
+    from ..domains.refine import work_ahead
+
+    if source.kind != "triangle" or source.surface is None or not len(source.surface):
+        return len(source.vertices), 1
+    try:
+        return work_ahead(source.surface, len(source.vertices), settings.mesh.refine, only_parts_of)
+    except (ValueError, IndexError):  # an estimate never stops a run: the build says what is wrong
+        return len(source.vertices), 1
 
 
 # --------------------------------------------------------------------------- registry
@@ -217,7 +231,7 @@ def run_distance(args):
         raise InvalidMeshError(f"{args.mesh}: {exc}") from exc
     with timed_stage("query"):
         d = solver.distance(sources)
-    log.info("%s", distance_summary(d))
+    log.info("%s", distance_summary(d, source_parts(solver, sources)))
     cells = mesh.cells if mesh.kind == "tet" else mesh.surface
     with timed_stage("write"):
         for out in args.output:
@@ -320,7 +334,12 @@ def run_meshlab(args):
     """
     from . import meshlab
 
-    print(meshlab.format_report(meshlab.run(args), as_json=args.json))
+    try:
+        stats = meshlab.run(args)
+    except HeatcoreError as exc:  # every refusal is a usage or input problem (docs/meshlab.md): status 2
+        exc.exit_status = meshlab.EXIT_INPUT_ERROR
+        raise
+    print(meshlab.format_report(stats, as_json=args.json))
     return 0
 
 
@@ -368,7 +387,7 @@ def run_batch_command(args):
     """
     from .batch import SUMMARY_NAME, parse_sources, run_batch
 
-    spec = parse_sources(args.sources, suffix=args.sources_file_suffix, union=args.union)
+    spec = parse_sources(source_text(args.sources), suffix=args.sources_file_suffix, union=args.union)
     rows = run_batch(args.inputs, args.output_dir, spec, scheduler=args.scheduler, workers=args.workers,
                      max_memory_mb=args.max_memory, settings=settings_of(args, "batch"), progress=not args.quiet,
                      resume_only=args.resume_only)

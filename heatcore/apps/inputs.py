@@ -79,6 +79,88 @@ def parse_vertex_index(text):
     return value
 
 
+#: The flags of a command's source option: every spelling means the same on every subcommand.
+SOURCE_FLAGS = ("-s", "--source", "--sources")
+
+
+def source_tokens(values):
+    """Split command-line source words on commas: ``["0,17", "5"]`` -> ``["0", "17", "5"]``.
+
+    A word holding ``:`` (a point inside a face, ``FACE:B0,B1,B2``) is kept whole.
+
+    Examples
+    --------
+    >>> source_tokens(["0,17", " 5", "12:0.2,0.3,0.5", "3,"])
+    ['0', '17', '5', '12:0.2,0.3,0.5', '3']
+    """
+    tokens = []
+    for value in values:
+        if ":" in value:
+            tokens.append(value.strip())
+        else:
+            tokens += [token.strip() for token in value.split(",") if token.strip()]
+    return tokens
+
+
+class SourcesAction(argparse.Action):
+    """One source syntax for every subcommand: ``-s 0 17``, ``-s 0,17`` and ``-s 0 -s 17`` mean the same.
+
+    The words after the flag, split on commas (:func:`source_tokens`), are
+    read by ``parse`` (default :func:`parse_vertex_index`) and appended to
+    what earlier uses of the flag gave. With ``single=True`` the command
+    takes one source (``what`` names it in messages): the value is that
+    source, and a second one (in any spelling) is a usage error (exit
+    status 2) that says so. ``keywords``
+    are words that stand for a whole source specification (``batch``'s
+    ``all``, ``farthest:K``): stored as the text, alone.
+
+    Examples
+    --------
+    >>> p = argparse.ArgumentParser(prog="demo")
+    >>> _ = p.add_argument(*SOURCE_FLAGS, dest="source", action=SourcesAction)
+    >>> [p.parse_args(argv).source for argv in (["-s", "0", "17"], ["-s", "0,17"], ["-s", "0", "--source", "17"])]
+    [[0, 17], [0, 17], [0, 17]]
+    >>> q = argparse.ArgumentParser(prog="one")
+    >>> _ = q.add_argument("-s", dest="source", action=SourcesAction, single=True)
+    >>> q.parse_args(["-s", "5"]).source
+    5
+    """
+
+    def __init__(self, option_strings, dest, nargs="+", parse=parse_vertex_index, single=False, keywords=None,
+                 what="source", **kwargs):
+        super().__init__(option_strings, dest, nargs=nargs, **kwargs)
+        self.parse, self.single, self.keywords, self.what = parse, single, keywords, what
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        flag = "/".join(self.option_strings)
+        tokens = source_tokens(values)
+        earlier = getattr(namespace, self.dest, None)
+        if self.keywords is not None and any(self.keywords(token) for token in tokens):
+            if len(tokens) > 1 or earlier is not None:
+                parser.error(f"argument {flag}: {' '.join(tokens)!s} is a whole source specification: give it "
+                             "alone, not with vertex indices")
+            setattr(namespace, self.dest, tokens[0])
+            return
+        if isinstance(earlier, str):
+            parser.error(f"argument {flag}: {earlier!r} is a whole source specification: give it alone")
+        parsed = []
+        for token in tokens:
+            try:
+                parsed.append(self.parse(token))
+            except argparse.ArgumentTypeError as exc:
+                hint = ("; the mesh file goes before the sources (or end them with --)"
+                        if Path(token).suffix and not token[:1].isdigit() else "")
+                parser.error(f"argument {flag}: {exc}{hint}")
+        given = ([] if earlier is None else [earlier] if self.single else list(earlier)) + tokens
+        if self.single and len(given) > 1:
+            parser.error(f"argument {flag}: this command takes one {self.what}, got {len(given)} "
+                         f"({', '.join(map(str, given))}); run it once per {self.what}")
+        if self.single:
+            setattr(namespace, self.dest, parsed[0] if parsed else earlier)
+        else:
+            setattr(namespace, self.dest, (earlier or []) + parsed)
+
+
 def parse_non_negative_int(text):
     """An integer >= 0 from an option value (an ``argparse`` type).
 

@@ -35,9 +35,8 @@ In a PyMeshLab script (not run as a doctest: it needs pymeshlab and a mesh file)
 
 import argparse
 import json
-import os
+import logging
 import sys
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -45,6 +44,8 @@ import numpy as np
 from .. import options
 from ..errors import HeatcoreError, InvalidMeshError, InvalidOptionError, InvalidSourceError
 from ..settings import FRONT_END_OPTIONS, Settings
+from .inputs import SOURCE_FLAGS, SourcesAction
+from .outputs import atomic_output
 from .meshlab_filter import (  # noqa: F401 - re-exported: the filter's public names
     COLORMAP_CHOICES,
     DEFAULT_ATTRIBUTE,
@@ -56,6 +57,10 @@ from .meshlab_filter import (  # noqa: F401 - re-exported: the filter's public n
     geodesic_distance_from_selection,
     write_vertex_attribute,
 )
+
+#: Exit status of a usage or input problem (no selection, a missing file, ...), as docs/meshlab.md says:
+#: the script and ``heatcore meshlab`` both.
+EXIT_INPUT_ERROR = 2
 
 #: Options of :mod:`heatcore.options` on this command line: those the MeshLab front end offers.
 OPTION_NAMES = FRONT_END_OPTIONS["meshlab"]
@@ -105,13 +110,16 @@ def add_arguments(parser):
     >>> args = p.parse_args(["scan.obj", "--sources", "0", "17", "--colormap", "meshlab-turbo"])
     >>> args.sources, args.colormap, args.ascii
     ([0, 17], 'meshlab-turbo', False)
+    >>> p.parse_args(["scan.obj", "-s", "0,17"]).sources
+    [0, 17]
     """
     parser.add_argument("input", help="mesh file (PLY, OBJ, OFF, STL, ... anything pymeshlab reads)")
     parser.add_argument("-o", "--output", help="output PLY (default: INPUT stem + '_distance.ply')")
     src = parser.add_mutually_exclusive_group()
     src.add_argument(
-        "--sources", type=int, nargs="+", metavar="VERTEX",
-        help="source vertex indices (replace the file's selection)",
+        *SOURCE_FLAGS, dest="sources", action=SourcesAction, metavar="VERTEX",
+        help="source vertex indices, 0-based (replace the file's selection): -s 0 17, -s 0,17 and -s 0 -s 17 "
+             "mean the same (also --source, --sources)",
     )  # fmt: skip
     src.add_argument(
         "--select", metavar="CONDITION",
@@ -129,6 +137,7 @@ def add_arguments(parser):
     )  # fmt: skip
     parser.add_argument("--ascii", action="store_true", help="write an ASCII PLY (default binary)")
     parser.add_argument("--json", action="store_true", help="print the statistics as JSON")
+    parser.add_argument("-q", "--quiet", action="store_true", help="no progress or timing lines on stderr")
     return parser
 
 
@@ -266,23 +275,22 @@ def _select_vertices(ms, mesh, indices):
 
 
 def _save_ply(ms, output, binary=True):
-    """Write the current mesh as PLY with quality, colours and selection; no partial file on failure."""
+    """Write the current mesh as PLY with quality, colours and selection; no partial file on failure.
+
+    Written as every heatcore writer writes (:func:`heatcore.apps.outputs.atomic_output`):
+    a temporary file beside the output, created with the process's umask (0644 under
+    the usual 022, not a private temporary file's 0600), renamed over the output.
+    """
     output.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(suffix=".ply", prefix=".heatcore-", dir=output.parent)
-    os.close(fd)
-    try:
+    with atomic_output(output) as tmp:
         ms.save_current_mesh(
-            tmp,
+            str(tmp),
             binary=binary,
             save_vertex_quality=True,
             save_vertex_color=True,
             save_vertex_flag=True,
             save_face_flag=True,
         )
-        os.replace(tmp, output)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
 
 
 def _summary(stats):
@@ -323,11 +331,17 @@ def main(argv=None, prog=None):
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help, usage errors (exit status 2)
         return exc.code if isinstance(exc.code, int) else 1
+    logger = logging.getLogger("heatcore")
+    saved = logger.level
+    if args.quiet:
+        logger.setLevel(logging.WARNING)
     try:
         stats = run(args)
     except HeatcoreError as exc:
         print(f"error: {exc}", file=sys.stderr)
-        return 2
+        return EXIT_INPUT_ERROR
+    finally:
+        logger.setLevel(saved)
     print(format_report(stats, as_json=args.json))
     return 0
 

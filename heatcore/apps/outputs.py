@@ -32,6 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import HeatcoreError
+from ..io.curves import CURVE_READERS
 
 OUTPUT_SUFFIXES = (".ply", ".npy", ".csv", ".vtu", ".vtk", ".msh")
 VOLUME_OUTPUT_SUFFIXES = (".vtu", ".vtk", ".msh")
@@ -171,8 +172,9 @@ def check_output_paths(outputs, png=None, inputs=(), overwrite=False, curves=Non
         outputs.append(png)
     if curves is not None:
         curves = Path(curves)
-        if curves.suffix.lower() != ".obj":
-            raise UsageError(f"--isolines-out {curves}: the curves are an OBJ file; give a name ending in .obj")
+        if curves.suffix.lower() not in CURVE_READERS:
+            raise UsageError(f"--isolines-out {curves}: the curves are polylines; give a name ending in "
+                             f"{', '.join(CURVE_READERS)}")
         outputs.append(curves)
     for i, out in enumerate(outputs):
         if any(out == other or same_file(out, other) for other in outputs[:i]):
@@ -341,13 +343,13 @@ def render_png(path, V, F, d, sources, colormap, isolines, title=None, view=None
 
 
 def write_isolines(path, V, F, d, count):
-    """Write ``count`` isoline curves of the distances as OBJ polylines, atomically.
+    """Write ``count`` isoline curves of the distances as polylines (``.obj``, ``.vtk``, ``.ply``), atomically.
 
     The levels are ``max * j / (count + 1)``, ``j = 1..count``
     (:func:`heatcore.contours.isoline_levels`); curves of the surface
     triangles ``F`` (:func:`heatcore.isolines`), written by
-    :func:`heatcore.io.curves.write_obj_curves` with a comment naming each
-    curve's level.
+    :func:`heatcore.io.curves.write_curves` (the OBJ with a comment naming
+    each curve's level).
 
     Returns
     -------
@@ -369,7 +371,7 @@ def write_isolines(path, V, F, d, count):
     >>> tmp.cleanup()
     """
     from ..contours import isolines
-    from ..io.curves import write_obj_curves
+    from ..io.curves import write_curves
 
     curves = isolines(V, F, d, count)
     finite = np.isfinite(d)
@@ -378,5 +380,5 @@ def write_isolines(path, V, F, d, count):
     labels = [f"isoline {j}: level {c.level:.17g}, {len(c.points)} points, {'closed' if c.closed else 'open'}"
               for j, c in enumerate(curves)]
     with atomic_output(path) as tmp:
-        write_obj_curves(tmp, curves, header=header, labels=labels)
+        write_curves(tmp, curves, header=header, labels=labels)
     return curves

@@ -37,7 +37,7 @@ from pathlib import Path
 
 from ..errors import InvalidMeshError
 from .arguments import add_common_options, add_solver_options
-from .inputs import parse_vertex_index
+from .inputs import SourcesAction, parse_vertex_index
 from .outputs import UsageError
 from .polylines import (
     add_polyline_arguments,
@@ -51,14 +51,15 @@ from .reporting import timed_stage
 
 log = logging.getLogger("heatcore.apps.cli")
 
-PATH_HELP = "the geodesic path between two points of a triangle mesh, as a polyline (.obj, .ply, .csv)"
+PATH_HELP = "the geodesic path between two points of a triangle mesh, as a polyline (.obj, .vtk, .ply, .csv)"
 PATH_DESCRIPTION = (
     "Shortest path on the surface of a triangle mesh between two points, each a vertex index (0-based) "
     "or a point inside a face, FACE:B0,B1,B2 (face index and barycentric coordinates), or through waypoints "
     "(--through, one geodesic per leg; --closed back to the first). The heat "
     "distance from the first point picks the route, which is then straightened into an exact geodesic "
     "on the mesh's faces. Output by extension: .obj (v and l elements: an edge mesh in MeshLab, edges "
-    "in Blender), .ply (vertex and edge elements), .csv (x,y,z). The length is printed."
+    "in Blender), .vtk (VTK line cells), .ply (vertex and edge elements), .csv (x,y,z); which reader keeps "
+    "the segments: see -o. The length is printed."
 )
 
 
@@ -104,11 +105,13 @@ def path_arguments(p):
     ([0, 7, 9], True)
     """
     add_polyline_arguments(p)
-    p.add_argument("--from", dest="source", type=surface_point, metavar="POINT",
+    p.add_argument("--from", dest="source", action=SourcesAction, parse=surface_point, single=True, what="start point",
+                   metavar="POINT",
                    help="where the path starts: a vertex index, or FACE:B0,B1,B2 for a point inside a face")
-    p.add_argument("--to", dest="target", type=surface_point, metavar="POINT",
+    p.add_argument("--to", dest="target", action=SourcesAction, parse=surface_point, single=True, what="end point",
+                   metavar="POINT",
                    help="where the path ends (as --from)")
-    p.add_argument("--through", type=surface_point, nargs="+", metavar="POINT",
+    p.add_argument("--through", action=SourcesAction, parse=surface_point, metavar="POINT",
                    help="waypoints instead of --from and --to (two or more, as --from): one geodesic from each "
                         "to the next")
     p.add_argument("--closed", action="store_true", help="with --through: back to the first waypoint at the end")

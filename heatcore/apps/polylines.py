@@ -6,7 +6,8 @@ writes it to every ``-o`` file, by extension:
 - ``.obj``: ``v`` lines and one ``l`` line per segment (MeshLab and PyMeshLab
   load the ``l`` elements as an edge mesh; Blender's OBJ importer makes them
   a mesh of edges, which Convert > Curve turns into a curve);
-- ``.ply``: ASCII PLY with ``vertex`` and ``edge`` elements;
+- ``.vtk``: legacy VTK line cells (meshio reads the segments; trimesh only the points);
+- ``.ply``: ASCII PLY with ``vertex`` and ``edge`` elements (a ``Path3D`` in trimesh; meshio refuses it);
 - ``.csv``: ``x,y,z`` rows, first point first.
 
 The output names are checked before the mesh is read (:func:`check_outputs`);
@@ -27,14 +28,14 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InvalidMeshError
-from ..io.curves import write_obj_curves
+from ..io.curves import curve_formats_help, write_obj_curves, write_vtk_curves
 from .arguments import settings_of
 from .inputs import read_mesh_file
 from .outputs import CliError, UsageError, atomic_output, same_file
 from .reporting import timed_stage
 
 #: Output formats of the polyline commands.
-PATH_SUFFIXES = (".obj", ".ply", ".csv")
+PATH_SUFFIXES = (".obj", ".vtk", ".ply", ".csv")
 
 
 def add_polyline_arguments(p):
@@ -50,8 +51,8 @@ def add_polyline_arguments(p):
     """
     p.add_argument("mesh", type=Path, metavar="MESH", help="triangle (or polygon) mesh file: OBJ, PLY, OFF, STL, ...")
     p.add_argument("-o", "--output", action="append", default=[], metavar="FILE",
-                   help="polyline file, format by extension: .obj (v and l elements), .ply (vertex and edge "
-                        "elements), .csv (x,y,z); repeat for several. Written whole or not at all")
+                   help="polyline file, format by extension: " + curve_formats_help() + "; .csv (x,y,z); "
+                        "repeat for several. Written whole or not at all")
     p.add_argument("--overwrite", action="store_true", help="allow an output to replace the mesh file")
 
 
@@ -70,10 +71,10 @@ def check_outputs(outputs, mesh, overwrite):
     >>> check_outputs(["t.txt"], "m.obj", False)
     Traceback (most recent call last):
     ...
-    heatcore.apps.outputs.UsageError: output t.txt: unknown extension '.txt'; use one of .obj, .ply, .csv
+    heatcore.apps.outputs.UsageError: output t.txt: unknown extension '.txt'; use one of .obj, .vtk, .ply, .csv
     """
     if not outputs:
-        raise UsageError("nothing to write: give -o/--output FILE (.obj, .ply, .csv)")
+        raise UsageError(f"nothing to write: give -o/--output FILE ({', '.join(PATH_SUFFIXES)})")
     seen = []
     for out in map(Path, outputs):
         if out.suffix.lower() not in PATH_SUFFIXES:
@@ -134,7 +135,7 @@ def write_outputs(outputs, points, header):
 
 
 def write_path(target, points, header=None):
-    """Write a polyline as ``.obj`` (``v`` + one ``l`` per segment), ``.ply`` (vertex + edge) or ``.csv``.
+    """Write a polyline as ``.obj`` (``v`` + one ``l`` per segment), ``.vtk`` (line cells), ``.ply`` (vertex + edge) or ``.csv``.
 
     The OBJ is written as the isoline curves are (:func:`~heatcore.io.curves.write_obj_curves`).
 
@@ -170,6 +171,10 @@ def write_path(target, points, header=None):
     if suffix == ".obj":  # as the isoline curves: heatcore.io.curves
         with atomic_output(target) as tmp:
             write_obj_curves(tmp, [(points, False)], header=header, labels=[f"path: {k} points"])
+        return
+    if suffix == ".vtk":  # meshio reads its segments (heatcore.io.curves.CURVE_READERS)
+        with atomic_output(target) as tmp:
+            write_vtk_curves(tmp, [(points, False)], header=header)
         return
     if suffix == ".ply":
         lines = ["ply", "format ascii 1.0"] + [f"comment {c}" for c in comment] + [

@@ -40,6 +40,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InvalidMeshError
+from ..io.curves import curve_formats_help
 from .arguments import (
     add_common_options,
     add_output_options,
@@ -140,7 +141,7 @@ def signed_arguments(p):
     add_output_options(p, png_help=f"draw the signed field into a PNG: blue to red, a line at 0 and at --isolines "
                                    f"levels on each side (default {SIGNED_ISOLINES})", colormap=False)
     p.add_argument("--isolines-out", nargs=2, default=None, metavar=("PATH", "N"),
-                   help="write the zero set and N levels on each side as OBJ polylines")
+                   help="write the zero set and N levels on each side as polylines: " + curve_formats_help())
     p.add_argument("--overwrite", action="store_true", help="allow an output to replace the mesh file")
     add_solver_options(p, front_end="signed heat")
     add_common_options(p)
@@ -212,7 +213,7 @@ def _isolines_out(args):
 def _write(args, mesh, phi, marked, curves_out, count):
     """Each output of ``heatcore signed``: files, picture, isolines."""
     from ..contours import isolines, signed_levels
-    from ..io.curves import write_obj_curves
+    from ..io.curves import write_curves
     from ..io.mesh import write_ply
     from ..viz.colormap import colorize_signed, to_uint8
 
@@ -239,6 +240,6 @@ def _write(args, mesh, phi, marked, curves_out, count):
                       for j, c in enumerate(curves)]
             header = f"heatcore signed: the zero set and {count} levels on each side of it"
             with atomic_output(curves_out) as tmp:
-                write_obj_curves(tmp, curves, header=header, labels=labels)
+                write_curves(tmp, curves, header=header, labels=labels)
         print(f"wrote {curves_out}  ({len(curves)} isoline curves)")
 

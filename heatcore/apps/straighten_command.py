@@ -51,13 +51,13 @@ from .trace_command import add_mesh_options
 
 log = logging.getLogger("heatcore.apps.cli")
 
-STRAIGHTEN_HELP = "an edge path or loop shortened to a geodesic, as a polyline (.obj, .ply, .csv)"
+STRAIGHTEN_HELP = "an edge path or loop shortened to a geodesic, as a polyline (.obj, .vtk, .ply, .csv)"
 STRAIGHTEN_DESCRIPTION = (
     "Shorten a path along the edges of a triangle mesh (a text file, one vertex index per line, each joined "
     "to the next by an edge) to a locally shortest geodesic with the same ends, on the same side of every "
     "hole and handle; with --loop, a closed edge loop to a closed geodesic around the same holes and handles "
-    "(around a cylinder: its circle). Output by extension: .obj (v and l elements), .ply (vertex and edge "
-    "elements), .csv (x,y,z). The lengths before and after are printed."
+    "(around a cylinder: its circle). Output by extension: .obj (v and l elements), .vtk (VTK line "
+    "cells), .ply (vertex and edge elements), .csv (x,y,z); which reader keeps the segments: see -o. The lengths before and after are printed."
 )
 
 

@@ -35,6 +35,7 @@ from pathlib import Path
 
 from .. import options
 from .arguments import add_common_options, solver_option_names
+from .inputs import SourcesAction
 from .outputs import UsageError
 from .path_command import surface_point
 from .polylines import (
@@ -48,13 +49,14 @@ from .reporting import timed_stage
 
 log = logging.getLogger("heatcore.apps.cli")
 
-TRACE_HELP = "the straightest geodesic from a point along a direction, as a polyline (.obj, .ply, .csv)"
+TRACE_HELP = "the straightest geodesic from a point along a direction, as a polyline (.obj, .vtk, .ply, .csv)"
 TRACE_DESCRIPTION = (
     "Trace the straightest geodesic on the surface of a triangle mesh from a point (a vertex index, or "
     "FACE:B0,B1,B2 inside a face) along a direction (X Y Z, projected on the tangent plane; or X Y in the "
     "start vertex's tangent basis) for a length: straight across every face and edge, with half the angle "
     "on either side where it meets a vertex, stopping at the length or the boundary. Output by extension: "
-    ".obj (v and l elements), .ply (vertex and edge elements), .csv (x,y,z). The length travelled, why it "
+    ".obj (v and l elements), .vtk (VTK line cells), .ply (vertex and edge elements), .csv (x,y,z); which "
+    "reader keeps the segments: see -o. The length travelled, why it "
     "stopped and the end point (FACE:B0,B1,B2, a start for another trace) are printed."
 )
 
@@ -94,7 +96,8 @@ def trace_arguments(p):
     ((5, [0.2, 0.3, 0.5]), [1.0, 0.0, 0.0], 2.0)
     """
     add_polyline_arguments(p)
-    p.add_argument("--from", dest="start", type=surface_point, required=True, metavar="POINT",
+    p.add_argument("--from", dest="start", action=SourcesAction, parse=surface_point, single=True, what="start point",
+                   required=True, metavar="POINT",
                    help="where the trace starts: a vertex index, or FACE:B0,B1,B2 for a point inside a face")
     p.add_argument("--direction", type=float, nargs="+", required=True, metavar="X",
                    help="X Y Z: a 3D vector, projected on the tangent plane at the start; or X Y: coordinates in "

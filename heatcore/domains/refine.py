@@ -93,6 +93,61 @@ def auto_refine_levels(n_vertices, min_vertices=AUTO_REFINE_MIN_VERTICES):
     return int(levels) if levels.ndim == 0 else levels
 
 
+def work_ahead(faces, n_vertices, refine="auto", only_parts_of=None):
+    """The work a triangle mesh's build has ahead: about how many vertices its solver gets, and its parts.
+
+    Each connected part of ``faces`` is refined as ``TriangleMesh(refine=...)``
+    refines it (``"auto"``: :func:`auto_refine_levels` under
+    :data:`AUTO_REFINE_BUDGET`), so a mesh of many small parts counts the
+    vertices it will have, not the ones it has. Parts are those of the faces
+    as given: before welding, so a triangle soup (an STL file) counts more
+    parts, and vertices, than its welded build (an upper bound).
+
+    Parameters
+    ----------
+    faces : (m, 3) int array
+    n_vertices : int
+    refine : "auto" or int, default "auto"
+    only_parts_of : sequence of int, optional
+        Only the parts holding these vertices count (a one-off query's build).
+
+    Returns
+    -------
+    (int, int)
+        Solver vertices (about) and parts.
+
+    Examples
+    --------
+    >>> F = np.array([[0, 1, 2], [3, 4, 5]])
+    >>> work_ahead(F, 6, refine=0), work_ahead(F, 6, refine=1), work_ahead(F, 6, only_parts_of=[0])
+    ((6, 2), (12, 2), (16386, 1))
+    >>> work_ahead([[0, 1, 99]], 6)  # faces that do not fit: the file's count (the build refuses them)
+    (6, 1)
+    """
+    from .parts import vertex_components
+
+    faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    n_vertices = int(n_vertices)
+    if faces.size and (faces.min() < 0 or faces.max() >= n_vertices):  # the build will say what is wrong
+        return n_vertices, 1
+    count, part = vertex_components(faces, n_vertices)
+    used = np.zeros(int(n_vertices), dtype=bool)
+    used[faces.ravel()] = True
+    sizes = np.bincount(part[used], minlength=count)
+    keep = sizes > 0
+    if only_parts_of is not None:
+        holding = np.zeros(count, dtype=bool)
+        given = np.asarray(only_parts_of, dtype=np.int64).ravel()
+        holding[part[given[(given >= 0) & (given < n_vertices)]]] = True
+        keep &= holding
+    sizes = sizes[keep]
+    if refine == "auto":
+        levels = budgeted_levels(sizes, auto_refine_levels(sizes))[0]
+    else:
+        levels = np.full(sizes.size, int(refine), dtype=np.int64)
+    return int(refined_size(sizes, levels).sum()), int(sizes.size)
+
+
 @dataclass
 class Subdivision:
     """Result of :func:`midpoint_subdivide`.

@@ -238,7 +238,42 @@ def _read_ply_data(path, header):
                                "(the data does not match the header: a truncated or corrupt file?)") from None
 
 
-def _read_meshio(path):
+def meshio_read(path, what="mesh file", reader=None, **kwargs):
+    """``meshio.read`` (or ``reader``) that never ends the process: its printout and exits become one error.
+
+    meshio prints why it cannot read a file and then calls ``sys.exit(1)``
+    (a PLY with an ``edge`` element, a VTK ``POLYDATA`` file); every heatcore
+    reader goes through here, so that a library never exits the process.
+
+    Parameters
+    ----------
+    path : path-like
+    what : str, default "mesh file"
+        What the file is, for the message.
+    reader : callable, optional
+        A meshio reader (``meshio.ply.read``); default ``meshio.read``.
+    **kwargs
+        Passed to the reader (``file_format=``).
+
+    Raises
+    ------
+    InvalidMeshError
+        meshio exited, or raised (its message, cut short).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = Path(tmp.name) / "edges.ply"
+    >>> _ = path.write_text("ply\\nformat ascii 1.0\\nelement vertex 1\\nproperty float x\\nproperty float y\\n"
+    ...                     "property float z\\nelement edge 0\\nproperty int vertex1\\nproperty int vertex2\\n"
+    ...                     "end_header\\n0 0 0\\n")
+    >>> meshio_read(path)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    heatcore.errors.InvalidMeshError: cannot read mesh file .../edges.ply: Expected `element vertex` or ...
+    >>> tmp.cleanup()
+    """
     import contextlib
     import io
 
@@ -246,11 +281,19 @@ def _read_meshio(path):
 
     chatter = io.StringIO()
     try:
-        with contextlib.redirect_stdout(chatter):  # meshio prints its own errors, then exits
-            mesh = meshio.read(str(path))
+        with contextlib.redirect_stdout(chatter), contextlib.redirect_stderr(chatter):
+            return (reader or meshio.read)(str(path), **kwargs)
     except SystemExit:
-        raise InvalidMeshError(f"cannot read mesh file {path}: {short(chatter.getvalue()) or 'no reader accepts it'}") from None
-    return _surface(mesh, path)
+        detail = short(" ".join(chatter.getvalue().split())) or "no reader accepts it"
+    except InvalidMeshError:
+        raise
+    except Exception as exc:  # readers raise many types
+        detail = short(exc) or type(exc).__name__
+    raise InvalidMeshError(f"cannot read {what} {path}: {detail}")
+
+
+def _read_meshio(path):
+    return _surface(meshio_read(path), path)
 
 
 def _surface(mesh, path):

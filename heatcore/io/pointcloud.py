@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InvalidMeshError, short
+from .mesh import meshio_read
 
 #: Suffixes read as XYZ text.
 XYZ_SUFFIXES = {".xyz", ".txt", ".pts", ".csv"}
@@ -103,16 +104,13 @@ def read_point_cloud(path):
 
 
 def _read_ply(path):
-    import contextlib
-    import io
 
     import meshio.ply
 
     from .ply import read_header
 
     read_header(path)  # meshio hangs on a header without end_header
-    with contextlib.redirect_stdout(io.StringIO()):  # meshio prints its own errors
-        mesh = meshio.ply.read(str(path))  # not meshio.read: it prints the reason and exits
+    mesh = meshio_read(path, "point cloud file", reader=meshio.ply.read)  # meshio's exits: InvalidMeshError
     points = np.asarray(mesh.points, dtype=float)
     data = mesh.point_data
     normals = None

@@ -31,14 +31,13 @@ Examples
 >>> tmp.cleanup()
 """
 
-import contextlib
-import io
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InvalidMeshError, short
+from .mesh import meshio_read
 
 
 @dataclass
@@ -150,10 +149,8 @@ def _read_potpourri3d(path):
 
 
 def _read_meshio(path):
-    import meshio
 
-    with contextlib.redirect_stdout(io.StringIO()):  # meshio prints its own errors
-        mesh = meshio.read(str(path))
+    mesh = meshio_read(path)  # meshio's exits become InvalidMeshError
     blocks = []
     for block in mesh.cells:
         if block.type in ("triangle", "quad") or block.type.startswith("polygon"):

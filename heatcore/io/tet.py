@@ -19,14 +19,13 @@ Examples
 >>> tmp.cleanup()
 """
 
-import contextlib
-import io
 import warnings
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import HeatcoreWarning, InvalidMeshError, InvalidOptionError, short
+from ..errors import HeatcoreWarning, InvalidMeshError, InvalidOptionError
+from .mesh import meshio_read
 
 #: Suffixes whose meshio writer keeps point data, and the meshio format used.
 DISTANCE_FORMATS = {".vtu": "vtu", ".vtk": "vtk", ".msh": "gmsh"}
@@ -70,18 +69,13 @@ def read_tet_mesh(path):
     ((30, 3), 4)
     >>> tmp.cleanup()
     """
-    import meshio
 
     path = Path(path)
     if not path.is_file():
         raise InvalidMeshError(f"mesh file not found: {path}")
     suffix = path.suffix.lower()
     fmt = "gmsh" if suffix == ".msh" else None  # meshio would try ANSYS first
-    try:
-        with contextlib.redirect_stdout(io.StringIO()):  # meshio prints its own errors
-            mesh = meshio.read(str(path), file_format=fmt)
-    except (Exception, SystemExit) as exc:  # readers raise many types; meshio may even exit
-        raise InvalidMeshError(f"cannot read tet mesh file {path}: {short(exc) or type(exc).__name__}") from exc
+    mesh = meshio_read(path, "tet mesh file", file_format=fmt)  # meshio's exits become InvalidMeshError
     blocks = [b for b in mesh.cells if b.type in TET_CELL_TYPES]
     if not blocks:
         kinds = sorted({b.type for b in mesh.cells}) or ["none"]
