@@ -7,7 +7,7 @@ around a cylinder, its waist). They are measured on the shape the user sees
 (the same :func:`~.stages.prepare_run` as *Geodesic Path*, so the cached solver
 is reused) and written as the curve object ``"<name> Geodesic Straightened"``
 (one poly spline each, cyclic for loops). ``select_edges`` replaces the edge
-selection of each chain by the mesh edges nearest to its geodesic.
+selection of each chain or loop by the mesh edges nearest to its geodesic.
 
 Examples
 --------
@@ -19,6 +19,7 @@ Examples
 
 import time
 from dataclasses import dataclass
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -72,8 +73,8 @@ def straighten_edges(obj, edges=None, *, select_edges=False, space="WORLD", shap
     edges : (k, 2) array_like of int, optional
         The edges (vertex pairs). Default: the selected edges (Edit Mode is synced first).
     select_edges : bool
-        Select, instead of each straightened chain's edges, the shortest chain of mesh edges among the
-        faces its geodesic crosses (loops keep their selection).
+        Select, instead of each straightened chain's or loop's edges, the shortest chain of mesh edges among
+        the faces its geodesic crosses (a loop: along each half).
     space, shape, progress, **solver_options
         As for :func:`~.path_api.geodesic_path`.
 
@@ -118,17 +119,37 @@ def straighten_edges(obj, edges=None, *, select_edges=False, space="WORLD", shap
 
 
 def _reselect(obj, run, chains, paths, closed):
-    """Each chain's edges deselected and the edges along its geodesic selected; loops keep their edges."""
+    """Each chain's edges deselected and the edges along its geodesic selected (a loop: along both its halves)."""
     E = np.empty(2 * len(obj.data.edges), dtype=np.int64)
     obj.data.edges.foreach_get("vertices", E)
     E = np.sort(E.reshape(-1, 2), axis=1)
-    chains_open = [(c, p) for c, p, loop in zip(chains, paths, closed) if not loop]
-    along = [edge_chain_along(obj, run.V, p, int(c[0]), int(c[-1]))[1] for c, p in chains_open]
-    drop = {tuple(sorted(e)) for c, _ in chains_open for e in zip(c[:-1].tolist(), c[1:].tolist())}
+    along, drop = [], set()
+    for chain, path, loop in zip(chains, paths, closed):
+        edges = _loop_edges(obj, run, path) if loop else edge_chain_along(obj, run.V, path, int(chain[0]),
+                                                                          int(chain[-1]))[1]
+        if edges.size:  # a loop whose halves no chain of edges follows keeps its selection
+            along.append(edges)
+            drop |= {tuple(sorted(e)) for e in zip(chain[:-1].tolist(), chain[1:].tolist())}
     deselect = np.array([tuple(e) in drop for e in E.tolist()], dtype=bool)
     new = np.concatenate(along) if along else np.zeros(0, dtype=np.int64)
     _set_edge_selection(obj, deselect, new)
     return new
+
+
+def _loop_edges(obj, run, path):
+    """Mesh edges along a closed geodesic: a chain along each half, between the vertices nearest its start and its
+    middle (empty where either half has none)."""
+    faces = np.asarray(path.faces)
+    half = len(faces) // 2
+    if half == 0:
+        return np.zeros(0, dtype=np.int64)
+    points = np.asarray(path.points)
+    ends = [int(np.argmin(np.linalg.norm(run.V - points[i], axis=1))) for i in (0, len(points) // 2)]
+    first = edge_chain_along(obj, run.V, SimpleNamespace(faces=faces[:half]), ends[0], ends[1])[1]
+    second = edge_chain_along(obj, run.V, SimpleNamespace(faces=faces[half:]), ends[1], ends[0])[1]
+    if not (first.size and second.size):
+        return np.zeros(0, dtype=np.int64)
+    return np.concatenate([first, second])
 
 
 def _set_edge_selection(obj, deselect, select_ids):
