@@ -123,7 +123,7 @@ def straighten_loop(V, F, loop, *, weld=0.0):
     >>> V = np.array([[np.cos(a), np.sin(a), z] for z in (0.0, 1.0) for a in angle])
     >>> F = [f for i in range(8) for f in ([i, (i + 1) % 8, 8 + (i + 1) % 8], [i, 8 + (i + 1) % 8, 8 + i])]
     >>> zigzag = [0, 1, 9, 10, 2, 3, 11, 12, 4, 5, 13, 14, 6, 7, 15, 8]  # up and down between the rings
-    >>> round(straighten_loop(V, F, zigzag).length / (16 * np.sin(np.pi / 8)), 12)  # the octagon's perimeter
+    >>> round(float(straighten_loop(V, F, zigzag).length / (16 * np.sin(np.pi / 8))), 12)  # the octagon's perimeter
     1.0
     """
     return straighten_loop_on(TriangleMesh(V, F, refine=0, weld=weld), loop)
