@@ -19,6 +19,8 @@ Blender default: the mesh as connected in Blender), on its core default
 (sources, output names) are declared here.
 """
 
+import importlib
+
 import bpy
 from bpy.props import (
     BoolProperty,
@@ -30,6 +32,7 @@ from bpy.props import (
     StringProperty,
 )
 
+from ._heatcore import heatcore
 from .api import (
     DEFAULT_ATTRIBUTE,
     DEFAULT_COLOR_ATTRIBUTE,
@@ -40,6 +43,8 @@ from .stages import FRONT_END_OPTIONS
 from .tooltips import choice_help, option_help
 from .uvmap import DEFAULT_UV_MAP
 
+#: ``heatcore.linalg`` (the bundled copy's): which factorization backends are usable here.
+linalg = importlib.import_module(heatcore.__name__ + ".linalg")
 #: heatcore options that are properties here: those the Blender front end offers, in the table's order.
 HEATCORE_OPTIONS = FRONT_END_OPTIONS["blender"]
 #: Of those, the ones that shape the domain and the solver (the others are outputs).
@@ -91,7 +96,7 @@ def option_property(name, front_end="blender"):
                                "default": kw["default"] is not None})
     if opt.choices:
         items = [(c, CHOICE_LABELS.get(c, c.capitalize()), choice_help(name, c, text))
-                 for c, text in zip(opt.choices, opt.choice_help)]
+                 for c, text in zip(opt.choices, opt.choice_help) if usable_choice(name, c)]
         return EnumProperty(items=items, **kw)
     if opt.specials:  # words or whole numbers in a range (refine: "auto" or 0..8): a menu of them
         return EnumProperty(items=special_items(opt), **kw)
@@ -105,6 +110,20 @@ def option_property(name, front_end="blender"):
     if "a length" in (opt.unit or ""):  # shown in the scene's units (weight_radius)
         limits["subtype"] = "DISTANCE"
     return FloatProperty(**kw, **limits)
+
+
+def usable_choice(name, choice):
+    """Whether the menu of option ``name`` offers ``choice`` here: the GPU backend only where Blender's Python has
+    its CUDA libraries and a GPU (a Blender user cannot install them from the menu's error).
+
+    Examples
+    --------
+    >>> usable_choice("backend", "auto"), usable_choice("colormap", "magma")  # doctest: +SKIP
+    (True, True)
+    """
+    if (name, choice) != ("backend", "gpu"):
+        return True
+    return choice in linalg.available_backends()
 
 
 def special_items(opt):

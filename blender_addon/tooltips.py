@@ -46,8 +46,8 @@ OPTION_HELP = {
 
 #: Blender tooltips of menu entries of heatcore options, by (option, choice).
 CHOICE_HELP = {
-    ("backend", "gpu"): "NVIDIA GPU (cuDSS), for millions of vertices (only where Blender's Python has the "
-                        "CUDA libraries; else the run stops with a message)",
+    ("backend", "gpu"): "NVIDIA GPU (cuDSS), for millions of vertices (listed only where Blender's Python has the "
+                        "CUDA libraries and a GPU)",
     ("backend", "supernodal"): "CHOLMOD's supernodal Cholesky (cvxopt): fastest factorization of large meshes",
     ("backend", "cholmod"): "CHOLMOD (cholespy): the fastest solves",
 }

@@ -288,6 +288,16 @@ def blender_properties():
     return sys.modules["blender_addon"].properties
 
 
+def test_the_gpu_backend_is_offered_in_blender_only_where_it_can_run(blender_properties):
+    """Issue 37, GPU row: a Blender user cannot act on "pip install 'heatcore[gpu]'": the choice is hidden instead."""
+    from heatcore.linalg import available_backends
+
+    items = [item[0] for item in blender_properties.GeodesicOptions.__annotations__["backend"].keywords["items"]]
+    assert ("gpu" in items) == ("gpu" in available_backends())
+    assert all(blender_properties.usable_choice("backend", c) for c in items)
+    assert blender_properties.usable_choice("colormap", "magma")
+
+
 def test_blender_properties_are_the_declared_ones(blender_properties):
     import bpy
 
@@ -308,11 +318,12 @@ def test_blender_properties_are_the_declared_ones(blender_properties):
             continue
         assert kw["description"] == help_(name, opt.help), name  # the declared help, as a Blender user reads it
         assert kw["default"] == opt.default_for("blender"), name
-        if opt.choices:
+        if opt.choices:  # the declared choices, but a backend that cannot run here (the GPU's)
+            offered = [(c, text) for c, text in zip(opt.choices, opt.choice_help)
+                       if blender_properties.usable_choice(name, c)]
             assert prop.function is bpy.props.EnumProperty
-            assert [item[0] for item in kw["items"]] == list(opt.choices)
-            assert [item[2] for item in kw["items"]] == [choice_help(name, c, text)
-                                                        for c, text in zip(opt.choices, opt.choice_help)]
+            assert [item[0] for item in kw["items"]] == [c for c, _ in offered]
+            assert [item[2] for item in kw["items"]] == [choice_help(name, c, text) for c, text in offered]
         elif opt.specials:  # words or the numbers of the range (refine: "auto" or 0..8), each back to its value
             assert prop.function is bpy.props.EnumProperty, name
             values = [*opt.specials, *range(opt.low, opt.high + 1)]
