@@ -42,10 +42,14 @@ from pathlib import Path
 import numpy as np
 
 from .. import options
-from ..errors import HeatcoreError, InvalidMeshError, InvalidOptionError, InvalidSourceError
+from ..errors import (
+    HeatcoreError,
+    InvalidMeshError,
+    InvalidOptionError,
+    InvalidSourceError,
+)
 from ..settings import FRONT_END_OPTIONS, Settings
 from .inputs import SOURCE_FLAGS, SourcesAction
-from .outputs import atomic_output
 from .meshlab_filter import (  # noqa: F401 - re-exported: the filter's public names
     COLORMAP_CHOICES,
     DEFAULT_ATTRIBUTE,
@@ -57,6 +61,8 @@ from .meshlab_filter import (  # noqa: F401 - re-exported: the filter's public n
     geodesic_distance_from_selection,
     write_vertex_attribute,
 )
+from .meshlab_signed import signed_from_arguments, signed_summary
+from .outputs import atomic_output
 
 #: Exit status of a usage or input problem (no selection, a missing file, ...), as docs/meshlab.md says:
 #: the script and ``heatcore meshlab`` both.
@@ -135,6 +141,11 @@ def add_arguments(parser):
         "--unreachable", type=float, default=DEFAULT_UNREACHABLE,
         help="quality of vertices no source reaches (default -1)",
     )  # fmt: skip
+    parser.add_argument("--signed", action="store_true",
+                        help="signed distance to the border of the selected faces instead (the file's saved face "
+                             "selection, or --select-faces), positive inside, blue-to-red colours (docs/signed.md)")
+    parser.add_argument("--select-faces", metavar="CONDITION",
+                        help="with --signed: MeshLab per-face condition selecting the region, e.g. \"(x0 > 0)\"")
     parser.add_argument("--ascii", action="store_true", help="write an ASCII PLY (default binary)")
     parser.add_argument("--json", action="store_true", help="print the statistics as JSON")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress or timing lines on stderr")
@@ -193,6 +204,13 @@ def run(args):
     except pymeshlab.PyMeshLabException as exc:
         raise InvalidMeshError(f"pymeshlab cannot read {path}: {exc}") from exc
     mesh = current_mesh(ms)
+    if args.signed:
+        stats = signed_from_arguments(ms, args)
+        _save_ply(ms, output, binary=not args.ascii)
+        stats["output"] = str(output)
+        return stats
+    if args.select_faces is not None:
+        raise InvalidOptionError("--select-faces selects the region of --signed; sources are vertices: --select")
     if args.sources is not None:
         _select_vertices(ms, mesh, args.sources)
     elif args.select is not None:
@@ -370,4 +388,4 @@ def format_report(stats, as_json=False):
     """
     if as_json:
         return json.dumps({k: v for k, v in stats.items() if k not in ("distance", "solver")}, indent=2)
-    return _summary(stats)
+    return signed_summary(stats) if "curves" in stats else _summary(stats)

@@ -36,6 +36,64 @@ DEFAULT_SIGNED_ATTRIBUTE = "heat_signed_distance"
 _COLOR_ATTRIBUTES = ("heatcore_signed_red", "heatcore_signed_green", "heatcore_signed_blue")
 
 
+def signed_from_arguments(ms, args):
+    """``heatcore meshlab --signed``: the face selection (the file's, or ``--select-faces``) and the run's options.
+
+    Raises
+    ------
+    InvalidOptionError
+        ``--accuracy high`` (the signed method's own distance is the sharper one), or vertex sources given.
+    InvalidSourceError
+        ``--select-faces`` selects no face, or nothing is selected.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> args = argparse.Namespace(sources=[0], select=None, accuracy="smooth")
+    >>> signed_from_arguments(None, args)
+    Traceback (most recent call last):
+    ...
+    heatcore.errors.InvalidOptionError: --signed measures to the border of selected faces: give --select-faces or save a face selection, not vertex sources (--sources, --select)
+    """
+    if args.sources is not None or args.select is not None:
+        raise InvalidOptionError("--signed measures to the border of selected faces: give --select-faces or save a "
+                                 "face selection, not vertex sources (--sources, --select)")
+    if args.accuracy == "high":
+        raise InvalidOptionError("--signed has no --accuracy high: the signed heat method's own distance is the "
+                                 "sharper one (docs/signed.md)")
+    if args.select_faces is not None:
+        ms.compute_selection_by_condition_per_face(condselect=args.select_faces)
+        if not ms.current_mesh().face_selection_array().any():
+            raise InvalidSourceError(f"--select-faces {args.select_faces!r} selects no face")
+    return signed_distance_from_selection(ms, m=args.m, boundary=args.boundary, backend=args.backend,
+                                          robust=args.robust, refine=args.refine, weld=args.weld,
+                                          isolines=args.isolines)
+
+
+def signed_summary(stats):
+    """The printed report of a signed run.
+
+    Examples
+    --------
+    >>> print(signed_summary({"curves": 1, "faces_selected": 4, "vertices": 9, "faces": 8, "min": -0.5, "max": 0.25,
+    ...                       "unreachable": 0, "seconds": {"setup": 0.1, "distance": 0.01, "write": 0.02},
+    ...                       "output": "m_distance.ply"}))
+    1 curve(s) bordering 4 selected faces, 9 vertices, 8 faces
+    signed distance: min -0.5, max 0.25 (inside positive)
+    time: setup 0.100 s, distance 0.010 s, write 0.020 s
+    wrote m_distance.ply (quality = signed distance, colours: blue outside, red inside, selection kept)
+    """
+    s = stats["seconds"]
+    return "\n".join([
+        f"{stats['curves']} curve(s) bordering {stats['faces_selected']} selected faces, {stats['vertices']} vertices, "
+        f"{stats['faces']} faces",
+        f"signed distance: min {stats['min']:.6g}, max {stats['max']:.6g} (inside positive)"
+        + (f"; {stats['unreachable']} vertices in parts no border reaches" if stats["unreachable"] else ""),
+        f"time: setup {s['setup']:.3f} s, distance {s['distance']:.3f} s, write {s['write']:.3f} s",
+        f"wrote {stats['output']} (quality = signed distance, colours: blue outside, red inside, selection kept)",
+    ])
+
+
 def signed_distance_from_selection(ms, *, m=1.0, boundary="robin", backend="auto", robust=True, refine="auto",
                                    weld=0.0, isolines=0, attribute=DEFAULT_SIGNED_ATTRIBUTE, unreachable=0.0,
                                    colors=True):
