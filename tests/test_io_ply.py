@@ -186,3 +186,28 @@ def test_header_without_end_is_refused_for_every_domain(domain, tmp_path):
                            "-o", str(tmp_path / "d.npy"), "-q"], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 1 and proc.stdout == ""
     assert proc.stderr == f"heatcore: error: cannot read {path}: the PLY header has no end_header line (a truncated file?)\n"
+
+
+def test_meshlab_ply_with_face_flags_is_read(tmp_path):
+    """A PLY MeshLab saved with its selection has ``flags`` on the faces too; meshio 5.3 refused it as corrupt."""
+    pymeshlab = pytest.importorskip("pymeshlab")
+    V, F = hc.io.load_demo_mesh()
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(V, F.astype(np.int32)))
+    ms.compute_selection_by_condition_per_vertex(condselect="vi == 7")
+    path = tmp_path / "selected.ply"
+    ms.save_current_mesh(str(path), save_vertex_flag=True, save_face_flag=True, binary=True)
+    assert b"element face" in path.read_bytes()[:1000] and path.read_bytes()[:1000].count(b"property int flags") == 2
+    mesh = hc.io.read_mesh(path)
+    np.testing.assert_allclose(mesh.vertices, V)
+    np.testing.assert_array_equal(np.sort(mesh.faces, axis=1), np.sort(F, axis=1))
+    assert mesh.selected_vertices().tolist() == [7]
+
+
+def test_ascii_ply_with_face_properties_is_read(tmp_path):
+    path = tmp_path / "flags.ply"
+    path.write_text("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                    "element face 2\nproperty list uchar int vertex_indices\nproperty int flags\nend_header\n"
+                    "0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2 0\n3 0 2 3 32\n")
+    mesh = hc.io.read_mesh(path)
+    assert mesh.faces.tolist() == [[0, 1, 2], [0, 2, 3]] and mesh.vertices.shape == (4, 3)

@@ -226,6 +226,9 @@ def _read_ply_data(path, header):
         return SurfaceMesh(*read_tristrips(path, header))
     if not counts.get("face"):
         raise NoFacesError(f"{path} holds no faces")
+    face = next(e for e in header.elements if e.name == "face")
+    if len(face.properties) > 1:  # MeshLab's face flags beside the corners: meshio misreads such faces
+        return _ply_with_face_properties(path, header)
     import meshio
     import meshio.ply
 
@@ -236,6 +239,30 @@ def _read_ply_data(path, header):
     except Exception as exc:  # numpy's complaint while parsing: the body does not match the header
         raise InvalidMeshError(f"cannot read mesh file {path}: {short(exc, 160) or type(exc).__name__} "
                                "(the data does not match the header: a truncated or corrupt file?)") from None
+
+
+def _ply_with_face_properties(path, header):
+    """A PLY whose faces hold more than their corners (MeshLab saves ``flags``), read by :mod:`heatcore.io.ply`.
+
+    meshio 5.3 reads the corner lists of such a file wrongly (a file MeshLab saved with its selection flags
+    was refused as corrupt).
+    """
+    from .faces import triangulate_faces
+    from .ply import read_elements
+
+    elements = read_elements(path, header)
+    vertex, face = elements["vertex"], elements["face"]
+    if not all(c in vertex for c in "xyz"):
+        raise InvalidMeshError(f"cannot read mesh file {path}: its vertices have no x, y, z")
+    rows = face.get("vertex_indices", face.get("vertex_index"))
+    if rows is None:
+        raise NoFacesError(f"{path}: its faces have no vertex_indices list")
+    V = np.column_stack([np.asarray(vertex[c], dtype=float) for c in "xyz"])
+    sizes = np.array([len(r) for r in rows], dtype=np.int64)
+    corners = np.concatenate(rows).astype(np.int64) if len(rows) else np.zeros(0, dtype=np.int64)
+    faces = triangulate_faces(V, np.r_[0, np.cumsum(sizes)], corners, f"cannot read mesh file {path}")
+    data = {k: np.asarray(v) for k, v in vertex.items() if k not in "xyz" and np.ndim(v) == 1}
+    return SurfaceMesh(V, faces, data)
 
 
 def meshio_read(path, what="mesh file", reader=None, **kwargs):
