@@ -178,6 +178,23 @@ def options_from_panel(operator, context, names):
             setattr(operator, name, getattr(panel, name))
 
 
+class PanelOptionsOperator:
+    """What the operators that take the panel's options share: ``invoke`` fills the options the call left unset
+    from the panel (:func:`options_from_panel`), ``draw`` shows the redo panel's rows ``SHOWN``."""
+
+    SHOWN = ()
+
+    def invoke(self, context, event):
+        options_from_panel(self, context, GeodesicOptions.__annotations__)
+        return self.execute(context)
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        for name in self.SHOWN:
+            layout.prop(self, name)
+
+
 def poll_editable_mesh(cls, context):
     """``poll`` of the operators that write to the active mesh: a mesh, not linked from a library
     (in Edit Mode it is editable anyway); says why not in the tooltip (``poll_message_set``)."""

@@ -22,15 +22,13 @@ from bpy.props import BoolProperty
 from ._heatcore import heatcore
 from .adapters import AddonError
 from .legend import format_distance
-from .operator import options_from_panel, poll_editable_mesh
+from .operator import PanelOptionsOperator, poll_editable_mesh
 from .path_api import geodesic_path
 from .properties import GeodesicOptions
 
-#: What the operator's redo panel shows (the other options do not change a path).
-SHOWN = ("closed", "path_edges", "space", "shape", "m", "accuracy")
 
 
-class MESH_OT_heat_geodesic_path(GeodesicOptions, bpy.types.Operator):
+class MESH_OT_heat_geodesic_path(PanelOptionsOperator, GeodesicOptions, bpy.types.Operator):
     """Shortest path on the surface from the active vertex to the other selected one, or through the vertices in the order they were clicked, as a curve object"""
 
     bl_idname = "mesh.heat_geodesic_path"
@@ -40,17 +38,8 @@ class MESH_OT_heat_geodesic_path(GeodesicOptions, bpy.types.Operator):
     closed: BoolProperty(name="Closed Loop", default=False,
                          description="Return from the last selected vertex to the first: a closed loop through them")
 
+    SHOWN = ("closed", "path_edges", "space", "shape", "m", "accuracy")  # what the redo panel shows
     poll = classmethod(poll_editable_mesh)  # it may select edges
-
-    def invoke(self, context, event):
-        options_from_panel(self, context, GeodesicOptions.__annotations__)
-        return self.execute(context)
-
-    def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        for name in SHOWN:
-            layout.prop(self, name)
 
     def execute(self, context):
         obj = context.active_object

@@ -17,32 +17,21 @@ import bpy
 
 from ._heatcore import heatcore
 from .adapters import AddonError
-from .operator import options_from_panel, poll_editable_mesh
+from .operator import PanelOptionsOperator, poll_editable_mesh
 from .properties import GeodesicOptions
 from .straighten import straighten_edges
 
-#: What the operator's redo panel shows.
-SHOWN = ("path_edges", "space", "shape")
 
 
-class MESH_OT_heat_straighten_edges(GeodesicOptions, bpy.types.Operator):
+class MESH_OT_heat_straighten_edges(PanelOptionsOperator, GeodesicOptions, bpy.types.Operator):
     """Shorten the selected edge path or loop to a geodesic on the surface (ends kept), as a curve object"""
 
     bl_idname = "mesh.heat_straighten_edges"
     bl_label = "Straighten Edges"
     bl_options = {"REGISTER", "UNDO"}
 
+    SHOWN = ("path_edges", "space", "shape")  # what the redo panel shows
     poll = classmethod(poll_editable_mesh)  # it may select edges
-
-    def invoke(self, context, event):
-        options_from_panel(self, context, GeodesicOptions.__annotations__)
-        return self.execute(context)
-
-    def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        for name in SHOWN:
-            layout.prop(self, name)
 
     def execute(self, context):
         obj = context.active_object
