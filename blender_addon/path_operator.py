@@ -27,7 +27,6 @@ from .path_api import geodesic_path
 from .properties import GeodesicOptions
 
 
-
 class MESH_OT_heat_geodesic_path(PanelOptionsOperator, GeodesicOptions, bpy.types.Operator):
     """Shortest path on the surface from the active vertex to the other selected one, or through the vertices in the order they were clicked, as a curve object"""
 

@@ -22,7 +22,6 @@ from .properties import GeodesicOptions
 from .straighten import straighten_edges
 
 
-
 class MESH_OT_heat_straighten_edges(PanelOptionsOperator, GeodesicOptions, bpy.types.Operator):
     """Shorten the selected edge path or loop to a geodesic on the surface (ends kept), as a curve object"""
 
