@@ -28,6 +28,7 @@ import numpy as np
 from . import adapters
 from ._heatcore import colormap as colormaps
 from ._heatcore import heatcore
+from .outputs import weights
 from .adapters import AddonError
 from .cache import SOLVERS, placed
 from .polygons import key_options
@@ -90,23 +91,6 @@ def selected_triangles(mesh, triangle_faces):
         select = np.zeros(len(data.polygons), dtype=bool)
         data.polygons.foreach_get("select", select)
     return np.flatnonzero(select[triangle_faces])
-
-
-def signed_weights(d, band=0.0):
-    """Vertex weights of a signed field: 1 inside (``d > 0``), 0 outside, linear across a band ``band`` wide.
-
-    Examples
-    --------
-    >>> signed_weights(np.array([-1.0, 0.0, 0.05, 1.0, np.inf]), band=0.2).tolist()
-    [0.0, 0.5, 0.75, 1.0, 0.0]
-    """
-    d = np.asarray(d, dtype=np.float64)
-    finite = np.isfinite(d)
-    if band > 0:
-        w = np.clip(0.5 + np.where(finite, d, -np.inf) / band, 0.0, 1.0)
-    else:
-        w = (np.where(finite, d, -1.0) > 0).astype(np.float64)
-    return np.where(finite, w, 0.0)
 
 
 def _curves(obj, F, triangle_faces, edges, V):
@@ -198,7 +182,7 @@ def signed_distance_from_edges(obj, edges=None, *, attribute=DEFAULT_SIGNED_ATTR
         if color_attribute is not None:
             adapters.write_color_attribute(obj.data, color_attribute, colormaps.colorize_signed(d, isolines=isolines))
         if weight_group:
-            adapters.write_vertex_group(obj, weight_group, signed_weights(d, weight_band))
+            adapters.write_vertex_group(obj, weight_group, weights.signed_weights(d, weight_band))
         obj.data.update()
     return SignedResult(distance=d, curves=len(curves), min_distance=float(d[finite].min()) if finite.any() else 0.0,
                         max_distance=float(d[finite].max()) if finite.any() else 0.0,

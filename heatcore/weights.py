@@ -101,3 +101,23 @@ def distance_weights(distance, radius=None, falloff="LINEAR", invert=False):
     if invert:
         weights = 1.0 - weights
     return np.where(reached, weights, 0.0)
+
+
+def signed_weights(d, band=0.0):
+    """Vertex weights of a signed field: 1 inside (``d > 0``), 0 outside, linear across a band ``band`` wide.
+
+    Blender's *Signed Distance from Edges* writes them as a vertex group (a mask for modifiers); vertices
+    no curve reaches (``inf``) get 0.
+
+    Examples
+    --------
+    >>> signed_weights(np.array([-1.0, 0.0, 0.05, 1.0, np.inf]), band=0.2).tolist()
+    [0.0, 0.5, 0.75, 1.0, 0.0]
+    """
+    d = np.asarray(d, dtype=np.float64)
+    finite = np.isfinite(d)
+    if band > 0:
+        w = np.clip(0.5 + np.where(finite, d, -np.inf) / band, 0.0, 1.0)
+    else:
+        w = (np.where(finite, d, -1.0) > 0).astype(np.float64)
+    return np.where(finite, w, 0.0)

@@ -11,6 +11,8 @@ import numpy as np
 import pytest
 from test_blender import addon, assert_same_snapshot, empty_scene, snapshot  # noqa: F401 (fixtures)
 
+from heatcore import weights as hc_weights
+
 HALF = 0.5  # the square's half side, in the grid's own coordinates (the grid spans -1..1)
 SCALE = 2.0
 
@@ -107,7 +109,7 @@ def test_selected_faces_mark_the_inside_and_weights_follow(addon):
     bpy.ops.object.mode_set(mode="OBJECT")
     group = obj.vertex_groups["inside"].index
     w = np.array([next((g.weight for g in v.groups if g.group == group), 0.0) for v in obj.data.vertices])
-    np.testing.assert_allclose(w, addon.signed.signed_weights(result.distance, 0.2), atol=1e-6)
+    np.testing.assert_allclose(w, hc_weights.signed_weights(result.distance, 0.2), atol=1e-6)
     assert w[np.argmax(np.abs(X).sum(axis=1))] == 1.0 and w[np.argmin(np.abs(X).sum(axis=1))] == 0.0
 
 
