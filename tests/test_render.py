@@ -161,3 +161,33 @@ def test_bad_input_is_refused_with_a_typed_error(tmp_path):
     with pytest.raises(hc.errors.InvalidOptionError, match="one distance per vertex: 3 distances for 42"):
         render.render_distance(tmp_path / "x.png", V, F, np.zeros(3))
     assert not (tmp_path / "x.png").exists()
+
+
+def test_the_default_picture_faces_the_source(tmp_path):
+    """Issue 38: the default camera faced one side whatever the source; now it faces the (first) source."""
+    from heatcore.viz.render import camera_rotation
+    from heatcore.viz.view import MAX_ELEVATION, view_facing
+
+    V, F = hc.io.load_demo_mesh()
+    centre = V.mean(axis=0)
+    for vertex in (int(np.argmin(V[:, 2])), int(np.argmax(V[:, 2])), int(np.argmin(V[:, 0])), int(np.argmin(V[:, 1]))):
+        view = view_facing(V, F, vertex)
+        towards = camera_rotation(view["elevation"], view["azimuth"])[2]  # from the mesh to the camera
+        outward = V[vertex] - centre
+        assert towards @ outward / np.linalg.norm(outward) > 0.3, vertex  # seen from its own side
+        assert abs(view["elevation"]) <= MAX_ELEVATION
+    flat = view_facing(np.c_[np.eye(3)[:, :2], np.zeros(3)], [[0, 1, 2]], 0, up="y")  # a flat triangle in z = 0
+    assert flat == {"azimuth": 25.0, "elevation": 15.0}  # facing +z, its normal, three-quarter
+    loose = np.r_[V, [[9.0, 9.0, 9.0]]]  # a vertex no face uses: the render's default camera
+    assert view_facing(loose, F, len(V)) == {}
+
+
+def test_distance_png_faces_a_source_on_the_back(tmp_path):
+    from heatcore.apps.cli import main
+    from heatcore.io import demo_mesh_path
+
+    V, _ = hc.io.load_demo_mesh()
+    back = int(np.argmax(V[:, 2]))  # spot faces -z: its tail end, hidden from the old default view
+    png = tmp_path / "back.png"
+    assert main(["distance", str(demo_mesh_path()), "-s", str(back), "--png", str(png), "--refine", "0", "-q"]) == 0
+    assert png.read_bytes()[:4] == b"\x89PNG"

@@ -250,7 +250,8 @@ def distance_arguments(p):
                    help="allow an output to replace an input file (the mesh or a sources file); "
                         "the input's other vertex properties are not kept")
     add_output_options(p, png_help="also write a PNG picture of the distance field (matplotlib); "
-                                   "a name ending in .png")
+                                   "a name ending in .png",
+                       view_default="facing the first source, from outside the surface at it (its marker in view)")
     p.add_argument("--isolines-out", nargs=2, action=_IsolinesOut, default=None, metavar=("PATH", "N"),
                    help="also write N isoline curves of the distance as polylines, at max*j/(N+1) for j = 1..N "
                         "(the levels of the PNG's lines); format by extension: " + curve_formats_help())

@@ -38,6 +38,7 @@ import numpy as np
 
 from ..errors import HeatcoreError, HeatcoreWarning, InvalidMeshError
 from ..io.mesh import short
+from ..viz.view import view_facing
 from .arguments import (  # noqa: F401 (add_*_options, solver_option_names: part of this module's API)
     OneLineErrorParser,
     add_common_options,
@@ -75,7 +76,12 @@ from .reporting import (
     source_parts,
     timed_stage,
 )
-from .signed_command import SIGNED_DESCRIPTION, SIGNED_HELP, run_signed, signed_arguments
+from .signed_command import (
+    SIGNED_DESCRIPTION,
+    SIGNED_HELP,
+    run_signed,
+    signed_arguments,
+)
 from .straighten_command import (
     STRAIGHTEN_DESCRIPTION,
     STRAIGHTEN_HELP,
@@ -241,8 +247,9 @@ def run_distance(args):
             print(f"wrote {out}")
     if args.png is not None:
         with timed_stage("render"):
+            view = args.view if args.view is not None else view_facing(mesh.vertices, mesh.surface, int(sources[0]))
             render_png(args.png, mesh.vertices, mesh.surface, d, sources, args.colormap, args.isolines,
-                       title=args.mesh.name, view=args.view)
+                       title=args.mesh.name, view=view)
         print(f"wrote {args.png}")
     if curves is not None:
         with timed_stage("isolines"):
