@@ -142,8 +142,9 @@ def compute_geodesic_distance(
         line is 0.7 to 1 times it wide, by its direction on screen).
     polygons : {"AUTO", "TRIANGULATE"}
         ``"AUTO"``: a mesh with quads or n-gons is measured as polygons
-        (:class:`heatcore.PolygonMesh`: more accurate than its loop
-        triangles; see :mod:`.polygons` for where triangles are kept);
+        (:class:`heatcore.PolygonMesh`: each face on heatcore's own
+        triangulation of it; see :mod:`.polygons` for where the loop
+        triangles are used instead);
         ``"TRIANGULATE"``: always its loop triangles.
     selected : {"VERTICES", "EDGES", "FACES"}
         Without ``sources`` or ``vertex_group``: the selected vertices, or

@@ -1,13 +1,15 @@
 """Quads and n-gons measured as polygons: which meshes get ``heatcore.PolygonMesh``, and its arrays.
 
-Blender meshes are mostly quads. heatcore's ``PolygonMesh`` (virtual
-refinement, refined polygon-aware) measures them more accurately than a
-``TriangleMesh`` of their loop triangles: 0.6 to 0.9 times the error on quad
-grids, Catmull-Clark surfaces, suzanne and beast (docs/polygon.md), 0.67
-times on a 100k-vertex quad sphere. So a distance run (``polygons="AUTO"``,
-the default) builds a ``PolygonMesh`` for a mesh that has a face of four
-or more corners, from Blender's faces as they are, and a ``TriangleMesh`` of
-the loop triangles otherwise, or where only triangles serve:
+Blender meshes are mostly quads. heatcore's ``PolygonMesh`` measures each
+face on heatcore's own triangulation of it (Delaunay in the face's plane,
+concave faces and 180-degree corners included, docs/polygon.md): on a quad
+grid 1.10% from the exact distance where the loop triangles, whose diagonals
+all run one way, give 1.22%; on a quad sphere 1.71% against 1.53% (its
+quads are not flat: the two diagonal choices make different surfaces). So a
+distance run (``polygons="AUTO"``, the default) builds a ``PolygonMesh`` for
+a mesh that has a face of four or more corners, from Blender's faces as they
+are, and a ``TriangleMesh`` of the loop triangles otherwise, or where only
+triangles serve:
 
 - ``accuracy="high"``: the eikonal pass runs on triangle meshes;
 - points on faces (the probe) and geodesic paths: they live on loop triangles;

@@ -64,9 +64,10 @@ SHAPE_ITEMS = [
 ]
 
 POLYGON_ITEMS = [
-    ("AUTO", "Keep Polygons", ("Measure quads and n-gons as polygons (more accurate than their triangles); "
-                               "triangle meshes, High accuracy and Robust off use the loop triangles")),
-    ("TRIANGULATE", "Triangulate", "Always measure the mesh's loop triangles"),
+    ("AUTO", "Keep Polygons", ("Measure quads and n-gons as faces: each on its own Delaunay triangulation, "
+                               "concave ones included; triangle meshes, High accuracy and Robust off use the loop "
+                               "triangles")),
+    ("TRIANGULATE", "Triangulate", "Always measure the mesh's loop triangles (Blender's own split of each face)"),
 ]
 
 SPACE_HELP = "Coordinates the distance is measured in: with the object's transform (scene units) or without"

@@ -340,8 +340,8 @@ _OPTIONS = (
     Option(
         "domain", "domain kind", str, "auto", "none (a choice)",
         "how to read a file: auto (tets from volume formats, points from files without faces, "
-        "triangles otherwise), or force one; 'polygon' keeps quads and n-gons (virtual refinement) "
-        "instead of triangulating them",
+        "triangles otherwise), or force one; 'polygon' keeps quads and n-gons as faces (each measured "
+        "on heatcore's Delaunay triangulation of it) instead of the reader's fan triangles",
         "read", choices=("auto", "triangle", "polygon", "tet", "points"), flag="--domain",
     ),
     Option(

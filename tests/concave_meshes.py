@@ -38,7 +38,8 @@ from heatcore.domains.polygon_triangulate import concave_polygons, triangulate_p
 from heatcore.reference import mean_relative_error
 
 
-def _arrays(bm):
+def arrays(bm):
+    """The vertices and faces of a BMesh, as arrays (the BMesh is freed)."""
     bm.verts.index_update()
     V = np.array([v.co[:] for v in bm.verts], dtype=float)
     P = [[v.index for v in f.verts] for f in bm.faces]
@@ -69,7 +70,7 @@ def dissolved_grid(n=24, count=150, seed=0):
         bmesh.ops.dissolve_edges(bm, edges=[edge], use_verts=False, use_face_split=False)
         done += 1
     _drop_loose(bm)
-    return _arrays(bm)
+    return arrays(bm)
 
 
 def dissolved_uv_sphere(angle=10.0, segments=32, rings=16, jitter=0.01, seed=0):
@@ -86,7 +87,7 @@ def dissolved_uv_sphere(angle=10.0, segments=32, rings=16, jitter=0.01, seed=0):
         p = np.array(v.co[:]) + rng.uniform(-jitter, jitter, 3)
         v.co = p / np.linalg.norm(p)
     bmesh.ops.dissolve_limit(bm, angle_limit=math.radians(angle), verts=bm.verts[:], edges=bm.edges[:])
-    return _arrays(bm)
+    return arrays(bm)
 
 
 def bumpy_cube(cuts=5, bumps=8, seed=0, angle=5.0):
@@ -100,7 +101,7 @@ def bumpy_cube(cuts=5, bumps=8, seed=0, angle=5.0):
         top = bmesh.ops.extrude_discrete_faces(bm, faces=[face])["faces"][0]
         bmesh.ops.translate(bm, vec=top.normal * 0.3, verts=top.verts[:])
     bmesh.ops.dissolve_limit(bm, angle_limit=math.radians(angle), verts=bm.verts[:], edges=bm.edges[:])
-    return _arrays(bm)
+    return arrays(bm)
 
 
 def holed_plate(n=20, holes=((4, 4, 3, 3), (12, 6, 2, 4), (6, 13, 4, 2)), band=2):
@@ -126,7 +127,7 @@ def holed_plate(n=20, holes=((4, 4, 3, 3), (12, 6, 2, 4), (6, 13, 4, 2)), band=2
     for faces in halves.values():
         bmesh.ops.dissolve_faces(bm, faces=[f for f in faces if f.is_valid], use_verts=False)
     _drop_loose(bm)
-    return _arrays(bm)
+    return arrays(bm)
 
 
 def text_mesh(body="heat GS", angle=5.0):
@@ -152,7 +153,7 @@ def text_mesh(body="heat GS", angle=5.0):
     bmesh.ops.remove_doubles(bm, verts=bm.verts[:], dist=1e-7)
     bmesh.ops.dissolve_limit(bm, angle_limit=math.radians(angle), verts=bm.verts[:], edges=bm.edges[:])
     _drop_loose(bm)
-    return _arrays(bm)
+    return arrays(bm)
 
 
 def heatcore_triangles(V, P):

@@ -81,7 +81,7 @@ def cached_domain(addon, obj, polygons):  # noqa: F811
     return addon.SOLVERS._entries[key][1].domain
 
 
-def test_a_quad_grid_is_measured_as_polygons_more_accurately_than_its_triangles(addon):  # noqa: F811
+def test_a_quad_grid_is_measured_on_heatcores_triangulation_of_its_polygons(addon):  # noqa: F811
     obj = quad_grid()
     V = world(obj)
     s = int(np.argmin(np.linalg.norm(V[:, :2] - V[:, :2].mean(axis=0), axis=1)))
@@ -94,18 +94,21 @@ def test_a_quad_grid_is_measured_as_polygons_more_accurately_than_its_triangles(
     F = np.array([t.vertices[:] for t in obj.data.loop_triangles])
     np.testing.assert_allclose(d_tri, hc.HeatSolver(hc.TriangleMesh(V, F)).distance([s]), rtol=1e-9, atol=1e-12)
     assert isinstance(cached_domain(addon, obj, False), hc.TriangleMesh)  # both kept, side by side
-    # measured: polygons 0.42%, loop triangles 1.30%
-    assert polygon_error < 0.005 and polygon_error < 0.4 * triangle_error, (polygon_error, triangle_error)
+    # measured: polygons 1.10% (heatcore's diagonals, either way in a square), loop triangles 1.22% (all one way);
+    # virtual refinement (PolygonMesh's default until 2026-11-29) gave 0.42% here but up to 2.1 times the
+    # triangulation's error elsewhere (tests/test_polygon_concave.py)
+    assert polygon_error < 0.0115 and polygon_error < triangle_error, (polygon_error, triangle_error)
 
 
-def test_a_quad_sphere_is_closer_to_the_great_circle_distance(addon):  # noqa: F811
+def test_a_quad_sphere_is_measured_close_to_the_great_circle_distance(addon):  # noqa: F811
     V, F = cube_sphere()
     obj = mesh_object(V, F)
     exact = np.arccos(np.clip(V @ V[0], -1.0, 1.0))
     _, polygon_error = errors(addon, obj, 0, exact)
     _, triangle_error = errors(addon, obj, 0, exact, polygons="TRIANGULATE")
-    # measured: polygons 1.05%, loop triangles 1.55%
-    assert polygon_error < 0.0115 and polygon_error < 0.75 * triangle_error, (polygon_error, triangle_error)
+    # measured: polygons 1.71%, loop triangles 1.53%: the quads are not flat, and their diagonals (heatcore's, the
+    # Delaunay one in the quad's plane; Blender's, always from the first corner) make different surfaces
+    assert polygon_error < 0.018 and polygon_error < 1.15 * triangle_error, (polygon_error, triangle_error)
 
 
 def test_triangles_where_only_they_serve(addon):  # noqa: F811

@@ -153,10 +153,10 @@ def exact_in_subprocess(V, F, source, tmp_path):
 
 
 def polygon_and_fan_errors(V, polygons, source, exact):
-    """Mean relative errors of PolygonMesh and of TriangleMesh (refine=0 and default) on the fan triangulation."""
+    """Mean relative errors of PolygonMesh (virtual refinement) and of TriangleMesh (refine=0, default) on the fan triangles."""
     offsets, idx = polygon_arrays(polygons, len(V))
     F = fan_triangulate(offsets, idx)[0]
-    poly = mean_relative_error(hc.HeatSolver(PolygonMesh(V, polygons)).distance([source]), exact)
+    poly = mean_relative_error(hc.HeatSolver(PolygonMesh(V, polygons, virtual=True)).distance([source]), exact)
     tri0 = mean_relative_error(hc.HeatSolver(hc.TriangleMesh(V, F, refine=0)).distance([source]), exact)
     tri = mean_relative_error(hc.HeatSolver(hc.TriangleMesh(V, F)).distance([source]), exact)
     return poly, tri0, tri
@@ -185,7 +185,7 @@ def grid_and_mixed():
 
 def test_operators_are_consistent():
     V, polys = grid_and_mixed()
-    mesh = PolygonMesh(V, polys, refine=0)  # the virtual-refinement operators themselves
+    mesh = PolygonMesh(V, polys, refine=0, virtual=True)  # the virtual-refinement operators themselves
     ops = mesh.operators
     L, G = ops.laplacian, ops.gradient
     A = sp.diags(np.repeat(ops.volumes, ops.dim))
@@ -201,16 +201,16 @@ def test_operators_are_consistent():
     # linear functions have exact gradients on a planar mesh
     Vp = V.copy()
     Vp[:, 2] = 0
-    g = (PolygonMesh(Vp, polys, refine=0).operators.gradient @ (3 * Vp[:, 0] + 4 * Vp[:, 1])).reshape(-1, 2)
+    g = (PolygonMesh(Vp, polys, refine=0, virtual=True).operators.gradient @ (3 * Vp[:, 0] + 4 * Vp[:, 1])).reshape(-1, 2)
     assert np.allclose(np.linalg.norm(g, axis=1), 5.0)
 
 
 def test_input_forms_agree_and_triangles_pass_through():
     V, polys = grid_and_mixed()
-    L = PolygonMesh(V, polys, refine=0).operators.laplacian
+    L = PolygonMesh(V, polys, refine=0, virtual=True).operators.laplacian
     sizes = [len(p) for p in polys]
     as_csr = (np.r_[0, np.cumsum(sizes)], np.concatenate(polys))
-    assert abs(PolygonMesh(V, as_csr, refine=0).operators.laplacian - L).max() == 0
+    assert abs(PolygonMesh(V, as_csr, refine=0, virtual=True).operators.laplacian - L).max() == 0
     Vq, Q = quad_grid(5)
     assert abs(PolygonMesh(Vq, Q).operators.laplacian - PolygonMesh(Vq, Q.tolist()).operators.laplacian).max() == 0
     # a triangle mesh is its own refinement, flipped to intrinsic Delaunay: TriangleMesh's operators

@@ -71,11 +71,11 @@ def fan_exact(V, P, sources, tmp_path):
 
 
 def errors(V, P, sources, exacts, **polygon_options):
-    """Mean relative errors (mean over sources) of PolygonMesh and TriangleMesh(fan), both with defaults."""
+    """Mean relative errors (mean over sources) of PolygonMesh (virtual refinement) and TriangleMesh(fan), defaults."""
     F = fan_triangulate(*polygon_arrays(P, len(V)))[0]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", hc.HeatcoreWarning)
-        poly = hc.HeatSolver(PolygonMesh(V, P, **polygon_options))
+        poly = hc.HeatSolver(PolygonMesh(V, P, **{"virtual": True} | polygon_options))
         tri = hc.HeatSolver(hc.TriangleMesh(V, F))
     ep = np.mean([mean_relative_error(poly.distance([s]), e) for s, e in zip(sources, exacts)])
     et = np.mean([mean_relative_error(tri.distance([s]), e) for s, e in zip(sources, exacts)])
@@ -171,11 +171,12 @@ def test_levels_follow_the_triangle_rule_per_part():
     remap[used] = np.arange(used.size)
     part_levels, levels, part = refine_levels(used.size, offsets, remap[corners], "auto")
     assert part_levels.tolist() == [auto_refine_levels(121), auto_refine_levels(4)] == [4, 7]
-    mesh = PolygonMesh(far, np.vstack([Q, Q[:1] + len(V)]))
+    mesh = PolygonMesh(far, np.vstack([Q, Q[:1] + len(V)]), virtual=True)
     assert mesh.part_levels.tolist() == [4, 7] and mesh.levels == 7
     assert PolygonMesh(V, Q, refine=0).operators.n_vertices == 121
-    assert PolygonMesh(V, Q, refine=1).operators.n_vertices == 121 + 220 + 100
-    assert PolygonMesh(V, Q, refine=4).operators.n_vertices == 161**2
+    assert PolygonMesh(V, Q, refine=1, virtual=True).operators.n_vertices == 121 + 220 + 100
+    assert PolygonMesh(V, Q, refine=1).operators.n_vertices == 121 + 220 + 100  # side and diagonal midpoints
+    assert PolygonMesh(V, Q, refine=4, virtual=True).operators.n_vertices == 161**2
     with pytest.raises(hc.InvalidOptionError):
         PolygonMesh(V, Q, refine=-1)
     # a large mesh is not refined (beast: 32k vertices)
@@ -184,7 +185,7 @@ def test_levels_follow_the_triangle_rule_per_part():
 
 def test_sources_on_the_refined_mesh():
     V, Q = quad_grid(21)
-    mesh = PolygonMesh(V, Q)
+    mesh = PolygonMesh(V, Q, virtual=True)
     assert mesh.levels == 3
     solver = hc.HeatSolver(mesh)
     d = solver.distance(region=[0, 1, 20, 21])  # [0, 0.1]^2
