@@ -61,6 +61,7 @@ def compute_geodesic_distance(
     isoline_material=False,
     isoline_spacing=0.0,
     isoline_width=1.5,
+    isoline_style="SHADED",
     polygons="AUTO",
     selected="VERTICES",
     progress=None,
@@ -140,6 +141,12 @@ def compute_geodesic_distance(
     isoline_width : float
         Width of the material's isolines in screen pixels, at any zoom (a
         line is 0.7 to 1 times it wide, by its direction on screen).
+    isoline_style : {"SHADED", "FLAT"}
+        How the isoline material is lit: "SHADED", by the scene (Principled
+        BSDF, the colors also glowing faintly); "FLAT", not at all (Emission:
+        the colormap's colors exactly, in any light). The operator's
+        *Isoline Material* is on by default; this function draws it only when
+        ``isoline_material=True`` (a script gets only the outputs it asks for).
     polygons : {"AUTO", "TRIANGULATE"}
         ``"AUTO"``: a mesh with quads or n-gons is measured as polygons
         (:class:`heatcore.PolygonMesh`: each face on heatcore's own
@@ -192,7 +199,8 @@ def compute_geodesic_distance(
         attribute=attribute, color_attribute=color_attribute, colormap=colormap, isolines=isolines,
         normalize=normalize, weight_group=weight_group, weight_radius=weight_radius,
         weight_falloff=weight_falloff, weight_invert=weight_invert, isoline_material=isoline_material,
-        isoline_spacing=isoline_spacing, isoline_width=isoline_width, polygons=polygons, selected=selected, **solver_options,
+        isoline_spacing=isoline_spacing, isoline_width=isoline_width,
+        isoline_style=isoline_style, polygons=polygons, selected=selected, **solver_options,
     )
     for note in run.notes:
         warnings.warn(note, stacklevel=2)

@@ -8,7 +8,9 @@ Geometry Nodes modifier ("Geodesic Isolines") whose node group sets that
 material on the evaluated geometry only: the mesh's own materials and face
 material indices are never modified, and disabling or removing the modifier
 restores the object's look. The vertex colors are still written, for
-exporters.
+exporters and Solid shading. The material is *Shaded* (a Principled BSDF lit
+by the scene, the color glowing faintly) or *Flat* (an Emission shader: the
+colormap's colors exactly, in any light): :data:`ISOLINE_STYLES`.
 
 The isolines have an even width **in screen pixels**, whatever the zoom: a
 line pixel is one where the isoline band ``floor(d / spacing)`` changes within
@@ -55,6 +57,15 @@ LINE_DARKNESS = 0.05
 BUMP_DISTANCE = 1000.0
 #: Before Blender 4.4 (no Bump *Filter Width*): line width on the surface, as a fraction of the spacing.
 SURFACE_LINE_WIDTH = 0.08
+#: How the material is lit, name -> (label, tooltip): the one declaration of the ``isoline_style`` choices.
+ISOLINE_STYLES = {
+    "SHADED": ("Shaded", ("Lit by the scene (Principled BSDF), the colors also glowing faintly so that the sides "
+                          "away from the light keep them")),
+    "FLAT": ("Flat", ("Unlit (Emission): the colormap's colors exactly, in any light; in Solid shading the "
+                      "attribute colors are shown with Flat lighting")),
+}
+#: Shaded style: the color is also emitted at this strength (the shadowed side keeps a readable color).
+SHADED_GLOW = 0.25
 
 
 @dataclass
@@ -136,7 +147,7 @@ def _fill_ramp(ramp, colormap):
     ramp.color_ramp.color_mode = "RGB"
 
 
-def _build_shader(material, attribute, colormap, max_distance, spacing, attribute_scale, line_width):
+def _build_shader(material, attribute, colormap, max_distance, spacing, attribute_scale, line_width, style):
     """(Re)build the material's nodes: colormap colors and pixel-width isolines of the distance attribute."""
     tree = material.node_tree
     nodes, links = tree.nodes, tree.links
@@ -174,11 +185,24 @@ def _build_shader(material, attribute, colormap, max_distance, spacing, attribut
     _socket(color.inputs, "B_Color").default_value = (LINE_DARKNESS,) * 3 + (1.0,)
     links.new(lines.outputs[0], _socket(color.inputs, "Factor_Float"))
     links.new(_socket(grey.outputs, "Result_Color"), _socket(color.inputs, "A_Color"))
-    bsdf = _node(nodes, "ShaderNodeBsdfPrincipled", "Shading", (650, 200))
-    bsdf.inputs["Roughness"].default_value = 0.6
+    _shading(tree, _socket(color.outputs, "Result_Color"), style)
+
+
+def _shading(tree, color, style):
+    """The "Shading" node of ``style`` (:data:`ISOLINE_STYLES`) fed ``color``, into the material output."""
+    nodes, links = tree.nodes, tree.links
     output = _node(nodes, "ShaderNodeOutputMaterial", "Output", (950, 200))
-    links.new(_socket(color.outputs, "Result_Color"), bsdf.inputs["Base Color"])
-    links.new(bsdf.outputs["BSDF"], output.inputs["Surface"])
+    if style == "FLAT":
+        shader = _node(nodes, "ShaderNodeEmission", "Shading", (650, 200))
+        links.new(color, shader.inputs["Color"])
+        shader.inputs["Strength"].default_value = 1.0
+    else:
+        shader = _node(nodes, "ShaderNodeBsdfPrincipled", "Shading", (650, 200))
+        shader.inputs["Roughness"].default_value = 0.6
+        shader.inputs["Emission Strength"].default_value = SHADED_GLOW
+        links.new(color, shader.inputs["Base Color"])
+        links.new(color, shader.inputs["Emission Color"])
+    links.new(shader.outputs[0], output.inputs["Surface"])
 
 
 def pixel_lines_supported(tree):
@@ -264,7 +288,7 @@ def _material_of(group):
 
 
 def show_isoline_material(obj, attribute, *, colormap, max_distance, spacing, attribute_scale=1.0,
-                          line_width=1.5, space="WORLD"):
+                          line_width=1.5, space="WORLD", style="SHADED"):
     """Show ``obj`` with the isoline material: add or update its "Geodesic Isolines" modifier.
 
     Parameters
@@ -287,6 +311,9 @@ def show_isoline_material(obj, attribute, *, colormap, max_distance, spacing, at
         Isoline width in screen pixels (0.7 to 1 times it, by the line's direction).
     space : str
         The space the distance was measured in (shown by the legend).
+    style : str
+        How the material is lit, a key of :data:`ISOLINE_STYLES`: "SHADED"
+        (Principled BSDF) or "FLAT" (Emission, the colors as they are).
 
     Returns
     -------
@@ -310,7 +337,8 @@ def show_isoline_material(obj, attribute, *, colormap, max_distance, spacing, at
     group[MARKER] = material[MARKER] = space
     if material.node_tree is None:  # Blender before 5.0: nodes are opt-in
         material.use_nodes = True
-    _build_shader(material, attribute, colormap, max(max_distance, 1e-30), spacing, attribute_scale, line_width)
+    _build_shader(material, attribute, colormap, max(max_distance, 1e-30), spacing, attribute_scale, line_width,
+                  style)
     _build_group(group, material)
     if modifier is None:
         modifier = obj.modifiers.new(ISOLINE_MODIFIER, "NODES")

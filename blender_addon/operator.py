@@ -40,22 +40,24 @@ def _status(context, text):
         workspace.status_text_set(text)
 
 
-def show_color_attribute(context, material=False):
-    """Make the result visible in solid-shaded 3D views: attribute colors, or Material Preview
-    when the isoline material is on (a material shows only there and in Rendered shading)."""
+def show_color_attribute(context, outputs):
+    """Make the result visible in the 3D views: Solid shading shows the attribute colors (with Flat lighting
+    for the flat isoline style), and a Solid view switches to Material Preview when the isoline material is on
+    (a material shows only there and in Rendered shading). ``outputs``: the run's output options."""
     screen = getattr(context, "screen", None)
     for area in screen.areas if screen else ():
         if area.type == "VIEW_3D":
             shading = area.spaces.active.shading
-            if shading.type == "SOLID" and material:
+            shading.color_type = "VERTEX"  # "Attribute" in the UI: what Solid shading shows
+            if outputs["isoline_material"] and outputs["isoline_style"] == "FLAT":
+                shading.light = "FLAT"
+            if shading.type == "SOLID" and outputs["isoline_material"]:
                 shading.type = "MATERIAL"
-            elif shading.type == "SOLID":
-                shading.color_type = "VERTEX"  # "Attribute" in the UI
 
 
-def report_result(context, result, report, obj, material=False, space="WORLD"):
-    """Statistics for the panel, attribute colors in the viewport, and the INFO (and WARNING) reports of a run on ``obj``
-    (its largest distance in the scene's units in World ``space``)."""
+def report_result(context, result, report, obj, outputs, space="WORLD"):
+    """Statistics for the panel, the result shown in the viewport (``outputs``: the run's output options), and the
+    INFO (and WARNING) reports of a run on ``obj`` (its largest distance in the scene's units in World ``space``)."""
     stats = context.window_manager.heat_geodesic_stats
     stats.valid = True
     stats.object_name = result.object.name
@@ -66,7 +68,7 @@ def report_result(context, result, report, obj, material=False, space="WORLD"):
     stats.seconds = result.seconds
     stats.solver_seconds = result.solver_seconds
     stats.cached = result.cached
-    show_color_attribute(context, material)
+    show_color_attribute(context, outputs)
     for note in result.warnings:
         report({"WARNING"}, note)
     how = "cached solver" if result.cached else f"solver built in {result.solver_seconds:.2f} s"
@@ -139,7 +141,7 @@ class ModalRun:
                 return {"CANCELLED"}
         finally:
             self.display.end()
-        return report_result(context, result, self.report, obj, self.run.outputs["isoline_material"], self.run.space)
+        return report_result(context, result, self.report, obj, self.run.outputs, self.run.space)
 
     def cancel(self, message=None):
         """Cancel the build (the worker stops at its next stage), take the display down: ``{"CANCELLED"}``."""
@@ -238,8 +240,7 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
             run = prepare_run(targets[0], **self.call_options())
             if run.solver is not None:  # cached: only the query is left, no thread needed
                 obj = targets[0]
-                return report_result(context, finish_run(run, obj=obj), self.report, obj, self.isoline_material,
-                                     self.space)
+                return report_result(context, finish_run(run, obj=obj), self.report, obj, run.outputs, self.space)
         except REPORTED_ERRORS as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
@@ -285,7 +286,7 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
                 wm.progress_end()
                 _status(context, None)
         for obj, result in done:
-            report_result(context, result, self.report, obj, self.isoline_material, self.space)
+            report_result(context, result, self.report, obj, self.call_options(), self.space)
         if skipped:
             self.report({"WARNING"} if done else {"ERROR"}, skipped_message(skipped))
         return {"FINISHED"} if done else {"CANCELLED"}

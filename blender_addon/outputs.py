@@ -20,7 +20,7 @@ from . import adapters
 from ._heatcore import colormap as colormaps
 from ._heatcore import heatcore
 from .adapters import AddonError
-from .material import show_isoline_material
+from .material import ISOLINE_STYLES, show_isoline_material
 from .undo import remember_active_color
 
 #: ``heatcore.options`` (the bundled copy's).
@@ -50,6 +50,7 @@ def check_outputs(
     isoline_material=False,
     isoline_spacing=0.0,
     isoline_width=1.5,
+    isoline_style="SHADED",
 ):
     """The output options checked (before any work), as keywords of :func:`write_outputs`.
 
@@ -76,18 +77,20 @@ def check_outputs(
             raise
     adapters.check_output_names(obj, attribute, color_attribute, weight_group or None, source_group)
     if isoline_material:
-        _check_isoline_options(attribute, isoline_spacing, isoline_width)
+        _check_isoline_options(attribute, isoline_spacing, isoline_width, isoline_style)
     return outputs
 
 
-def _check_isoline_options(attribute, spacing, width):
-    """The isoline material reads the distance attribute: it must be written; spacing >= 0, width > 0."""
+def _check_isoline_options(attribute, spacing, width, style):
+    """The isoline material reads the distance attribute: it must be written; spacing >= 0, width > 0, a known style."""
     if attribute is None:
         raise AddonError("isoline_material=True draws the distance attribute: give an attribute name, not None")
     if not (np.isfinite(spacing) and spacing >= 0):
         raise AddonError(f"isoline_spacing must be 0 (from the isoline count) or a positive distance, got {spacing}")
     if not (np.isfinite(width) and width > 0):
         raise AddonError(f"isoline_width must be a positive number of pixels, got {width}")
+    if style not in ISOLINE_STYLES:
+        raise AddonError(f"isoline_style must be one of {', '.join(ISOLINE_STYLES)}, got {style!r}")
 
 
 #: The output options (keywords of :func:`check_outputs` and :func:`write_outputs`).
@@ -95,7 +98,8 @@ OUTPUT_NAMES = tuple(name for name in inspect.signature(check_outputs).parameter
 
 
 def write_outputs(obj, d, space, *, attribute, color_attribute, colormap, isolines, normalize, weight_group,
-                  weight_radius, weight_falloff, weight_invert, isoline_material, isoline_spacing, isoline_width):
+                  weight_radius, weight_falloff, weight_invert, isoline_material, isoline_spacing, isoline_width,
+                  isoline_style):
     """Write the distance ``d`` (per vertex, ``inf`` where unreachable) to the outputs of ``obj``.
 
     ``space`` is the space it was measured in (the isoline material's line widths depend on it).
@@ -123,5 +127,6 @@ def write_outputs(obj, d, space, *, attribute, color_attribute, colormap, isolin
     if isoline_material:
         spacing = isoline_spacing or (dmax / (isolines + 1) if isolines else 0.0)
         show_isoline_material(obj, attribute, colormap=colormap, max_distance=dmax, spacing=spacing,
-                              attribute_scale=1.0 / scale, line_width=isoline_width, space=space)
+                              attribute_scale=1.0 / scale, line_width=isoline_width, space=space,
+                              style=isoline_style)
     return dmax

@@ -65,6 +65,7 @@ class VIEW3D_PT_heat_geodesic(bpy.types.Panel):
         sub.enabled = settings.isoline_material
         sub.prop(settings, "isoline_spacing")
         sub.prop(settings, "isoline_width")
+        sub.prop(settings, "isoline_style")
         col.prop(settings, "write_weights")
         if settings.write_weights:
             col.prop(settings, "weight_group")

@@ -23,7 +23,8 @@ import bpy
 OPERATOR = "mesh.heat_geodesic_distance"
 #: The output options and their values when a preset does not set them.
 OUTPUT_DEFAULTS = {
-    "normalize": False, "isolines": 0, "isoline_material": False, "write_weights": False,
+    "normalize": False, "isolines": 0, "isoline_material": True, "isoline_style": "SHADED",
+    "write_weights": False,
     "weight_radius": 0.0, "weight_falloff": "LINEAR", "weight_invert": False,
 }
 #: Preset name -> the options it sets (over :data:`OUTPUT_DEFAULTS`).

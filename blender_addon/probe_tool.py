@@ -385,7 +385,7 @@ class MESH_OT_heat_geodesic_probe(bpy.types.Operator):
             stats.valid, stats.object_name, stats.vertices = True, result.object.name, result.n_vertices
             stats.sources, stats.max_distance = len(session.probe.sources), result.max_distance
             stats.seconds, stats.solver_seconds, stats.cached = result.seconds, result.solver_seconds, result.cached
-            show_color_attribute(context, session.probe.run.outputs["isoline_material"])
+            show_color_attribute(context, session.probe.run.outputs)
         return state
 
     def cancel(self, context):

@@ -39,6 +39,7 @@ from .api import (
     DEFAULT_WEIGHT_GROUP,
     options,
 )
+from .material import ISOLINE_STYLES
 from .stages import FRONT_END_OPTIONS
 from .tooltips import choice_help, option_help
 from .uvmap import DEFAULT_UV_MAP
@@ -205,10 +206,14 @@ class GeodesicOptions:
     )
     isoline_material: BoolProperty(
         name="Isoline Material",
-        description="Show the distance per pixel with a generated material: colormap colors and isolines of even "
-                    "width, independent of the mesh density (a 'Geodesic Isolines' modifier sets it; the mesh's "
-                    "own materials are not modified)",
-        default=False,
+        description="Show the distance per pixel with a generated material: colormap colors and smooth isolines "
+                    "of even width, independent of the mesh density, in Material Preview and renders (a 'Geodesic "
+                    "Isolines' modifier sets it; the mesh's own materials are not modified)",
+        default=True,
+    )
+    isoline_style: EnumProperty(
+        name="Style", items=[(key, label, tip) for key, (label, tip) in ISOLINE_STYLES.items()], default="SHADED",
+        description="How the isoline material is lit: by the scene, or not at all (the colors exactly)",
     )
     isoline_spacing: FloatProperty(
         name="Spacing",
@@ -249,6 +254,7 @@ class GeodesicOptions:
             isoline_material=self.isoline_material,
             isoline_spacing=self.isoline_spacing,
             isoline_width=self.isoline_width,
+            isoline_style=self.isoline_style,
             polygons=self.polygons,
             **self.solver_options(),
         )

@@ -48,6 +48,7 @@ def draw_run_options(layout, props):
     if props.isoline_material:
         col.prop(props, "isoline_spacing")
         col.prop(props, "isoline_width")
+        col.prop(props, "isoline_style")
     col.prop(props, "write_weights")
     if props.write_weights:
         for name in ("weight_group", "weight_radius", "weight_falloff", "weight_invert"):

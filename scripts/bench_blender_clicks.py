@@ -10,7 +10,7 @@ first; the core query is ``solver.distance(src)`` on the cached solver with
 the same source, timed right after each click. The cached click is split into
 stages by timing the functions the add-on calls (whatever is left is
 "other": the operator and ``bpy.ops`` around it, mode checks, the mesh
-update). Prints one line per click and the Markdown tables of docs/blender.md.
+update). Prints one line per click and the Markdown tables of docs/blender-benchmarks.md.
 
 Examples
 --------

@@ -29,7 +29,7 @@ parts, medians over the drag:
 
 The GPU side (uploading the overlay's batches, Blender redrawing) cannot run
 in a headless ``bpy`` and is not timed. Prints one line per mesh and the
-Markdown table of docs/blender.md.
+Markdown table of docs/blender-benchmarks.md.
 
 Examples
 --------

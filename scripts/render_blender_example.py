@@ -1,10 +1,12 @@
 """Render the add-on's result headless: spot colored by geodesic distance, with isolines.
 
 Imports spot (heatcore's demo mesh), runs ``mesh.heat_geodesic_distance``
-from one vertex, and renders the color attribute headless through ``bpy`` with Workbench
-(attribute colors, studio light; it runs on software OpenGL through EGL) or,
-with ``--engine CYCLES``, with Cycles on the CPU: the picture in
-docs/blender.md.
+from one vertex with its default options (the isoline material on: isolines
+drawn per pixel from the distance attribute) and renders it headless through
+``bpy`` with EEVEE (what Material Preview shows; it runs on software OpenGL
+through EGL) or, with ``--engine CYCLES``, Cycles on the CPU: the first
+picture of README.md and docs/blender.md. ``--style FLAT`` renders the
+material's unlit style.
 
 Examples
 --------
@@ -25,12 +27,8 @@ REPO = Path(__file__).resolve().parents[1]
 
 
 def scene_with_spot(mesh_path, levels):
-    """Import the mesh and apply ``levels`` of Catmull-Clark subdivision.
-
-    Colors are per vertex, so isoline stripes are only as sharp as the mesh
-    is fine: spot's 2,930 vertices give blotches, two levels (46,754
-    vertices) give clean lines.
-    """
+    """Import the mesh and apply ``levels`` of Catmull-Clark subdivision (a smooth silhouette; the material's
+    isolines are sharp on spot's own 2,930 vertices, the vertex colors' stripes need two levels)."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
     bpy.ops.wm.obj_import(filepath=str(mesh_path))
     obj = bpy.context.selected_objects[0]
@@ -88,10 +86,11 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("output", nargs="?", default=str(REPO / "docs" / "images" / "blender_render.png"))
     parser.add_argument("--mesh", default=str(REPO / "heatcore" / "data" / "spot.obj"))
-    parser.add_argument("--levels", type=int, default=2, help="subdivision levels before the run")
-    parser.add_argument("--isolines", type=int, default=12)
-    parser.add_argument("--engine", default="BLENDER_WORKBENCH", choices=["CYCLES", "BLENDER_EEVEE", "BLENDER_WORKBENCH"])
-    parser.add_argument("--samples", type=int, default=32)
+    parser.add_argument("--levels", type=int, default=1, help="subdivision levels before the run")
+    parser.add_argument("--isolines", type=int, default=10, help="the operator's default: 10")
+    parser.add_argument("--style", default="SHADED", choices=["SHADED", "FLAT"], help="the isoline material's style")
+    parser.add_argument("--engine", default="BLENDER_EEVEE", choices=["CYCLES", "BLENDER_EEVEE"])
+    parser.add_argument("--samples", type=int, default=16)
     parser.add_argument("--size", type=int, nargs=2, default=[960, 720])
     args = parser.parse_args(argv)
 
@@ -102,8 +101,7 @@ def main(argv=None):
     select = np.zeros(len(V), dtype=bool)
     select[source] = True
     obj.data.vertices.foreach_set("select", select)
-    bpy.ops.mesh.heat_geodesic_distance(isolines=args.isolines, colormap="viridis")
-    obj.data.materials.append(color_material("geodesic_distance_color"))
+    bpy.ops.mesh.heat_geodesic_distance(isolines=args.isolines, colormap="viridis", isoline_style=args.style)
     setup_camera_and_light(obj)
 
     scene = bpy.context.scene
@@ -115,9 +113,9 @@ def main(argv=None):
         scene.cycles.device = "CPU"
         scene.cycles.samples = args.samples
         scene.cycles.use_denoising = True
-    elif args.engine == "BLENDER_WORKBENCH":
-        scene.display.shading.light = "STUDIO"
-        scene.display.shading.color_type = "VERTEX"
+    else:
+        scene.eevee.taa_render_samples = args.samples
+    scene.render.image_settings.color_mode = "RGB"
     scene.render.filepath = str(Path(args.output).resolve())
     bpy.ops.render.render(write_still=True)
     print(f"wrote {scene.render.filepath}")

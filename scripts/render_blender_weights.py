@@ -6,8 +6,9 @@ weight_group=..., weight_radius=1.2, weight_falloff="SMOOTH")`` writes the
 weights, and a Displace modifier lifts the grid by them: a hill whose
 contours wrap around the end of the slit, as geodesic distance does (a
 Euclidean falloff, such as the Vertex Weight Proximity modifier's, would
-climb the far side of the slit too). Headless Workbench render through
-``bpy``, attribute colors.
+climb the far side of the slit too). Headless EEVEE render through ``bpy``
+of the add-on's isoline material (isolines drawn per pixel from the distance
+attribute, as Material Preview shows them).
 
 Examples
 --------
@@ -57,7 +58,7 @@ def main(argv=None):
     source = int(np.argmin(np.linalg.norm(co.reshape(-1, 3) - [-0.3, 0.45, 0.0], axis=1)))
     result = addon.compute_geodesic_distance(
         obj, sources=[source], isolines=16, weight_group="geodesic_weight", weight_radius=1.2,
-        weight_falloff="SMOOTH",
+        weight_falloff="SMOOTH", isoline_material=True, isoline_width=2.0,
     )
     displace = obj.modifiers.new("Displace", "DISPLACE")
     displace.vertex_group, displace.direction, displace.mid_level, displace.strength = "geodesic_weight", "Z", 0.0, 0.6
@@ -71,11 +72,19 @@ def main(argv=None):
                           math.atan2(look[1], look[0]) - math.pi / 2)
     scene = bpy.context.scene
     scene.camera = cam
-    scene.render.engine = "BLENDER_WORKBENCH"
+    sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
+    sun.data.energy = 3.0
+    sun.rotation_euler = (math.radians(35), math.radians(15), math.radians(20))
+    bpy.context.collection.objects.link(sun)
+    world = bpy.data.worlds.new("world")
+    world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.85, 0.85, 0.85, 1.0)
+    scene.world = world
+    scene.render.engine = "BLENDER_EEVEE"
+    scene.eevee.taa_render_samples = 16
     scene.render.resolution_x, scene.render.resolution_y = args.size
-    scene.view_settings.view_transform = "Standard"
-    scene.display.shading.light = "STUDIO"
-    scene.display.shading.color_type = "VERTEX"
+    scene.view_settings.view_transform = "Standard"  # the colormap's colors as they are
+    scene.render.image_settings.color_mode = "RGB"
     scene.render.filepath = str(Path(args.output).resolve())
     bpy.ops.render.render(write_still=True)
     print(f"wrote {scene.render.filepath}: max distance {result.max_distance:.3f}")

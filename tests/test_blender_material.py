@@ -121,7 +121,8 @@ def test_material_modifier_created_and_rerun_updates_in_place(addon):
     assert mod.type == "NODES" and material.is_isoline_modifier(mod)
     ours = mod.node_group.nodes["Set Material"].inputs["Material"].default_value
     assert ours != taken and material.MARKER in ours and material.MARKER not in taken
-    assert ours.name.startswith(taken.name)  # Blender's unique suffix
+    assert ours.name.startswith(f"Geodesic Isolines ({obj.name})")  # Blender's unique suffix (leftovers of
+    assert ours.name != taken.name  # earlier test files' default runs may hold lower suffixes)
     assert evaluated_face_materials(obj) == {ours.name}  # every face, on screen only
 
     legend = material.isoline_legend(obj)
@@ -255,15 +256,17 @@ def square(n):
     return obj, co
 
 
-def render(obj, tmp_path, ortho_scale=1.0, center=(0.5, 0.5), size=128):
-    """Cycles, orthographic from above, uniform white world: linear RGB, rows bottom-up."""
+def render(obj, tmp_path, ortho_scale=1.0, center=(0.5, 0.5), size=128, world_color=(1.0, 1.0, 1.0)):
+    """Cycles, orthographic from above, a uniform world (white): linear RGB, rows bottom-up."""
     scene = bpy.context.scene
     camera = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
     camera.data.type, camera.data.ortho_scale = "ORTHO", ortho_scale
     camera.location = (*center, 2.0)
     scene.collection.objects.link(camera)
-    world = bpy.data.worlds.new("white")
-    world.color = (1.0, 1.0, 1.0)
+    world = bpy.data.worlds.new("uniform")
+    world.color = world_color
+    if world.node_tree is not None:  # Blender 5.0: a new world has nodes; its Background node is the light
+        world.node_tree.nodes["Background"].inputs["Color"].default_value = (*world_color, 1.0)
     saved = scene.camera, scene.world, scene.render.engine
     scene.camera, scene.world = camera, world
     scene.render.engine = "CYCLES"

@@ -257,16 +257,21 @@ def test_redo_panel_draws_what_matters_without_path_edges(addon):
         log = []
         addon.redo.draw_run_options(Recorder(log), settings)
     finally:
-        settings.source, settings.write_weights, settings.isoline_material = "SELECTED", False, False
+        settings.source, settings.write_weights = "SELECTED", False
     drawn = [name for _, name in log if not name.startswith("label:")]
     assert len(drawn) == len(set(drawn))
     every = {p.identifier for p in op.get_rna_type().properties} - {"rna_type"}
     assert set(drawn) == every - {"path_edges"}
     assert [name for section, name in log if section == "advanced"] == list(addon.redo.ADVANCED)
     log = []
-    addon.redo.draw_run_options(Recorder(log), settings)  # switches off: their rows are not shown
+    settings.isoline_material = False
+    try:
+        addon.redo.draw_run_options(Recorder(log), settings)  # switches off: their rows are not shown
+    finally:
+        settings.isoline_material = True  # the default
     drawn = {name for _, name in log}
-    assert not drawn & {"vertex_group", "weight_radius", "weight_group", "isoline_spacing", "path_edges"}
+    assert not drawn & {"vertex_group", "weight_radius", "weight_group", "isoline_spacing", "isoline_style",
+                        "path_edges"}
 
 
 def test_presets_set_the_outputs_of_common_uses(addon, tmp_path):
