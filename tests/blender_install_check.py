@@ -9,7 +9,9 @@ one JSON line.
 Usage: python -S blender_install_check.py EXTENSION.zip
 """
 
+import importlib
 import json
+import pkgutil
 import sys
 
 import bpy
@@ -60,9 +62,17 @@ def main(zip_path):
         sparse_forward = solver.heat_flow.neumann._sparse_forward is not None  # the bundled CHOLMOD's layout was read
         nested = isinstance(mesh.derived["nested", "supernodal"], hc.linalg.Ordering)
 
+    loaded = sorted(m for m in sys.modules if m.startswith(module + "._vendor.heatcore"))
+    imported, errors = import_everything(module)
     print(
         json.dumps(
             {
+                "vendored_loaded": loaded,
+                "imported": imported,
+                "import_errors": errors,
+                "faces": [list(p.vertices) for p in obj.data.polygons],
+                "co": co.tolist(),
+                "top": top,
                 "install": sorted(result),
                 "enabled": addon_utils.check(module)[1],
                 "addon_file": getattr(addon, "__file__", None),
@@ -84,6 +94,27 @@ def main(zip_path):
             }
         )
     )
+
+
+def import_everything(package):
+    """Import every module of the installed extension (the add-on and what it vendors).
+
+    Returns
+    -------
+    imported : list of str
+        The modules imported.
+    errors : dict
+        Module -> the error importing it raised (empty when every module imports).
+    """
+    root = sys.modules[package]
+    imported, errors = [], {}
+    for info in pkgutil.walk_packages(root.__path__, package + ".", onerror=lambda name: errors.setdefault(name, "walk")):
+        try:
+            importlib.import_module(info.name)
+            imported.append(info.name)
+        except Exception as exc:  # noqa: BLE001 - every failure is reported, by module
+            errors[info.name] = f"{type(exc).__name__}: {exc}"
+    return sorted(imported), errors
 
 
 if __name__ == "__main__":
