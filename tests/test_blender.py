@@ -432,6 +432,7 @@ def test_empty_mesh_is_refused(addon):
         addon.compute_geodesic_distance(obj, sources=[0])
 
 
+@pytest.mark.slow  # about 25 s: rebuilds the wheels and installs them into Blender
 def test_extension_zip_installs_and_runs(tmp_path):
     """Build this machine's zip offline, install it headless into a fresh user folder, run its operator.
 
