@@ -42,12 +42,11 @@ if str(Path(__file__).resolve().parent) not in sys.path:  # loaded by path (test
     sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from extension_contents import dropped_files, heatcore_modules, stage_sources
-from extension_sizes import MAX_ZIP_MB, measure, write_docs
+from extension_sizes import MAX_ZIP_MB, measure, previous_series, write_docs
 from installed_wheels import NotRepackable, repack
 from slim_wheels import prune
 
 REPO = Path(__file__).resolve().parents[1]
-ADDON_DIR = REPO / "blender_addon"
 DOCS = REPO / "docs" / "blender-packaging.md"
 
 #: Blender platform name -> pip ``--platform`` tags (any of them matches).
@@ -118,13 +117,8 @@ class Target:
 
     def filename(self, version):
         low, high = self.blender
-        series = f"{low.rsplit('.', 1)[0]}-{_below(high)}" if high else f"{low.rsplit('.', 1)[0]}-and-newer"
+        series = f"{low.rsplit('.', 1)[0]}-{previous_series(high)}" if high else f"{low.rsplit('.', 1)[0]}-and-newer"
         return f"heat_geodesics-{version}-blender-{series}-{self.platform}.zip"
-
-
-def _below(version):
-    major, minor = (int(x) for x in version.split(".")[:2])
-    return f"{major}.{minor - 1}"
 
 
 def current_platform():
@@ -168,10 +162,12 @@ def installed_wheels(dest, target, requirements):
     here = Target(current_platform(), f"{sys.version_info[0]}.{sys.version_info[1]}")
     if target != here:
         return [], f"the installed packages are for {here.platform}, Python {here.python}"
-    try:
-        return [repack(req.split("==")[0], dest) for req in requirements], ""
-    except NotRepackable as exc:
-        return [], str(exc)
+    with tempfile.TemporaryDirectory(prefix="wheels-", dir=dest) as tmp:  # all of them, or none in dest
+        try:
+            wheels = [repack(req.split("==")[0], Path(tmp)) for req in requirements]
+        except NotRepackable as exc:
+            return [], str(exc)
+        return [Path(shutil.move(str(w), dest / w.name)) for w in wheels], ""
 
 
 def write_manifest(stage, target, wheels):
@@ -309,6 +305,8 @@ def main(argv=None):
                         help="offline: wheels rebuilt from the packages installed here (this platform and Python only)")
     parser.add_argument("--docs", action="store_true", help=f"write the size table into {DOCS.relative_to(REPO)}")
     args = parser.parse_args(argv)
+    if args.docs and (args.platform or args.python or args.from_installed):
+        parser.error("--docs measures the release zips: every platform and Python, the pinned wheels downloaded")
     platforms = args.platform or ([current_platform()] if args.from_installed else None)
     pythons = args.python or ([f"{sys.version_info[0]}.{sys.version_info[1]}"] if args.from_installed else None)
     fetch = installed_wheels if args.from_installed else pip_download

@@ -33,7 +33,7 @@ def _mb(n):
     return n / 1e6
 
 
-def _previous_minor(version):
+def previous_series(version):
     """``"5.1.0"`` -> ``"5.0"``: the last Blender series below an exclusive ``blender_version_max``."""
     major, minor = (int(x) for x in version.split(".")[:2])
     return f"{major}.{minor - 1}" if minor else f"{major - 1}.x"
@@ -56,7 +56,7 @@ class Built:
     @property
     def blender_range(self):
         low = ".".join(self.blender[0].split(".")[:2])
-        return f"{low} - {_previous_minor(self.blender[1])}" if self.blender[1] else f"{low} and newer"
+        return f"{low} - {previous_series(self.blender[1])}" if self.blender[1] else f"{low} and newer"
 
     @property
     def installed_bytes(self):
