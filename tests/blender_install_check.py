@@ -3,8 +3,9 @@
 Run by tests/test_blender.py in a subprocess whose ``sys.path`` holds only
 bpy and numpy (``python -S`` with ``PYTHONPATH``) and whose
 ``BLENDER_USER_RESOURCES`` is a temporary folder, so that heatcore, scipy,
-cholespy, qdldl (and cvxopt, pymetis where bundled) can only come from the installed extension. Prints
-one JSON line.
+cholespy, qdldl (and cvxopt, pymetis where bundled) can only come from the installed extension. Runs
+the operator (and cvxopt's CHOLMOD where bundled), then imports every module the extension carries.
+Prints one JSON line.
 
 Usage: python -S blender_install_check.py EXTENSION.zip
 """

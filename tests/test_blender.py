@@ -491,8 +491,9 @@ def test_extension_zip_installs_and_runs(tmp_path):
     assert out["color_active"] == "geodesic_distance_color"
     # Every module the extension carries imports inside Blender, without the heatcore files left out.
     assert out["import_errors"] == {}
-    prefix = "bl_ext.user_default.heat_geodesics._vendor."
-    assert {m for m in out["imported"] if m.startswith(prefix)} == {prefix + m for m in shipped}
+    prefix = "bl_ext.user_default.heat_geodesics."
+    assert {m for m in out["imported"] if m.startswith(prefix + "_vendor.")} == {prefix + "_vendor." + m for m in shipped}
+    assert {prefix + p.stem for p in (REPO / "blender_addon").glob("*.py") if p.stem != "__init__"} <= set(out["imported"])
     assert 0 < len(out["vendored_loaded"]) <= len(shipped)
     d, exact = np.array(out["distance"]), np.array(out["exact"])
     assert len(d) == out["n"] == 162
