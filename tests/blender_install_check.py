@@ -8,12 +8,18 @@ the operator (and cvxopt's CHOLMOD where bundled), then imports every module the
 Prints one JSON line.
 
 Usage: python -S blender_install_check.py EXTENSION.zip
+
+Tests call :func:`run_installed` (the subprocess) and :func:`verify` (what its answer must say).
 """
 
 import importlib
+import importlib.util
 import json
+import os
 import pkgutil
+import subprocess
 import sys
+from pathlib import Path
 
 import bpy
 import numpy as np
@@ -80,6 +86,7 @@ def main(zip_path):
                 "extensions_dir": bpy.utils.user_resource("EXTENSIONS"),
                 "heatcore_file": hc.__file__,
                 "scipy_file": scipy.__file__,
+                "scipy_version": scipy.__version__,
                 "cholespy_file": cholespy.__file__,
                 "qdldl_file": qdldl.__file__,
                 "cvxopt_file": getattr(cvxopt, "__file__", None),
@@ -116,6 +123,62 @@ def import_everything(package):
         except Exception as exc:  # noqa: BLE001 - every failure is reported, by module
             errors[info.name] = f"{type(exc).__name__}: {exc}"
     return sorted(imported), errors
+
+
+def run_installed(zip_path, workdir):
+    """Run this script on ``zip_path`` in a Python that sees only bpy and numpy; its JSON answer.
+
+    The Blender user folder (``BLENDER_USER_RESOURCES``) is ``workdir/blender``, so the extension
+    is installed into ``workdir/blender/extensions/user_default``.
+    """
+    lite = Path(workdir) / "site"
+    lite.mkdir()
+    for name in ("bpy", "numpy"):
+        src = Path(next(iter(importlib.util.find_spec(name).submodule_search_locations)))
+        for path in src.parent.glob(name + "*"):
+            if path.name in (name, name + ".libs"):
+                (lite / path.name).symlink_to(path)
+    env = {**os.environ, "PYTHONPATH": str(lite), "BLENDER_USER_RESOURCES": str(Path(workdir) / "blender")}
+    proc = subprocess.run([sys.executable, "-S", __file__, str(zip_path)], cwd=workdir, env=env,
+                          capture_output=True, text=True, timeout=300, check=False)
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def verify(out, workdir, platform, shipped):
+    """Assert what :func:`run_installed` answered: installed, enabled, run, the core's distances.
+
+    ``shipped`` names the heatcore modules the zip vendors (``extension_contents.heatcore_modules``).
+    """
+    import heatcore as hc
+    from heatcore.reference import mean_relative_error
+
+    installed = Path(out["extensions_dir"]).resolve()
+    assert installed == (Path(workdir) / "blender" / "extensions").resolve()
+    assert out["install"] == ["FINISHED"] and out["enabled"] and out["operator"] == ["FINISHED"]
+    for key in ("addon_file", "heatcore_file", "scipy_file", "cholespy_file", "qdldl_file"):
+        assert Path(out[key]).resolve().is_relative_to(installed), (key, out[key])
+    assert "_vendor" in out["heatcore_file"] and out["color_active"] == "geodesic_distance_color"
+    # Every module the extension carries imports inside Blender, without the heatcore files left out.
+    assert out["import_errors"] == {}
+    prefix = "bl_ext.user_default.heat_geodesics."
+    assert {m for m in out["imported"] if m.startswith(prefix + "_vendor.")} == {prefix + "_vendor." + m for m in shipped}
+    addon = Path(__file__).resolve().parents[1] / "blender_addon"
+    assert {prefix + p.stem for p in addon.glob("*.py") if p.stem != "__init__"} <= set(out["imported"])
+    assert out["vendored_loaded"] and set(out["vendored_loaded"]) <= {prefix + "_vendor." + m for m in shipped}
+    d, exact = np.array(out["distance"]), np.array(out["exact"])
+    assert len(d) == out["n"] == 162
+    core = hc.geodesic_distance(np.array(out["co"]), np.array(out["faces"]), [out["top"]])
+    np.testing.assert_allclose(d, core, rtol=1e-5, atol=1e-6)  # the core's numbers (float32 attribute)
+    assert mean_relative_error(d, exact) < 0.02
+    if platform in ("linux-x64", "windows-x64"):  # where cvxopt has wheels: bundled, and it runs
+        assert Path(out["cvxopt_file"]).resolve().is_relative_to(installed)
+        np.testing.assert_allclose(out["supernodal_distance"], core, rtol=1e-6, atol=1e-6)
+        assert out["sparse_forward_used"]
+    if platform in ("linux-x64", "macos-x64", "macos-arm64"):  # where pymetis has wheels
+        assert Path(out["pymetis_file"]).resolve().is_relative_to(installed)
+    if platform == "linux-x64":  # both: the Poisson factor was ordered by METIS inside Blender
+        assert out["nested_dissection_used"]
 
 
 if __name__ == "__main__":

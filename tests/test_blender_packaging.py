@@ -203,7 +203,8 @@ def test_wheel_tags_for_a_python():
 
 @pytest.mark.slow
 def test_release_zips_are_built_and_under_60_mb(tmp_path):
-    """With the network: pip downloads each platform's pinned wheels; every zip weighs 60 MB or less."""
+    """With the network: pip downloads each platform's pinned wheels; every zip weighs 60 MB or less;
+    this machine's zip (pinned wheels, pruned) installs into Blender and runs."""
     online, why = _pip_reaches_the_index(tmp_path / "probe")
     if not online:
         pytest.skip(f"pip cannot download wheels here (offline?): {why[0]}")
@@ -226,3 +227,13 @@ def test_release_zips_are_built_and_under_60_mb(tmp_path):
         assert ("cvxopt" in b.missing) == b.platform.startswith("macos")
         assert ("pymetis" in b.missing) == (b.platform == "windows-x64")
         assert ("typing-extensions" in b.missing) == (b.platform == "windows-x64")  # only with pymetis
+    here = [b for b in builds if (b.platform, b.python) == (build.current_platform(), f"3.{sys.version_info[1]}")]
+    assert len(here) == 1
+    import blender_install_check  # imports bpy: the test extras have it
+
+    workdir = tmp_path / "install"
+    workdir.mkdir()
+    out = blender_install_check.run_installed(here[0].path, workdir)
+    blender_install_check.verify(out, workdir, here[0].platform, contents.heatcore_modules()[0])
+    pinned = dict(req.split("==") for req in build.REQUIREMENTS)
+    assert out["scipy_version"] == pinned["scipy"]  # the zip's scipy, not this Python's
