@@ -7,7 +7,7 @@ cholespy, qdldl (and cvxopt, pymetis where bundled) can only come from the insta
 the operator (and cvxopt's CHOLMOD where bundled), then imports every module the extension carries.
 Prints one JSON line.
 
-Usage: python -S blender_install_check.py EXTENSION.zip
+Usage: python -S blender_install_check.py EXTENSION.zip [--install-only]
 
 Tests call :func:`run_installed` (the subprocess) and :func:`verify` (what its answer must say).
 """
@@ -23,6 +23,16 @@ from pathlib import Path
 
 import bpy
 import numpy as np
+
+
+def install_only(zip_path):
+    """Install ``zip_path`` and say only what Blender did: the operator's result, enabled, files there."""
+    import addon_utils
+
+    result = bpy.ops.extensions.package_install_files(filepath=zip_path, repo="user_default", enable_on_install=True)
+    folder = Path(bpy.utils.user_resource("EXTENSIONS")) / "user_default"
+    print(json.dumps({"install": sorted(result), "enabled": addon_utils.check("bl_ext.user_default.heat_geodesics")[1],
+                      "installed": sorted(p.name for p in folder.glob("[!.]*"))}))
 
 
 def main(zip_path):
@@ -125,11 +135,12 @@ def import_everything(package):
     return sorted(imported), errors
 
 
-def run_installed(zip_path, workdir):
+def run_installed(zip_path, workdir, only_install=False):
     """Run this script on ``zip_path`` in a Python that sees only bpy and numpy; its JSON answer.
 
     The Blender user folder (``BLENDER_USER_RESOURCES``) is ``workdir/blender``, so the extension
-    is installed into ``workdir/blender/extensions/user_default``.
+    is installed into ``workdir/blender/extensions/user_default``. With ``only_install``, the
+    answer of :func:`install_only`.
     """
     lite = Path(workdir) / "site"
     lite.mkdir()
@@ -139,7 +150,8 @@ def run_installed(zip_path, workdir):
             if path.name in (name, name + ".libs"):
                 (lite / path.name).symlink_to(path)
     env = {**os.environ, "PYTHONPATH": str(lite), "BLENDER_USER_RESOURCES": str(Path(workdir) / "blender")}
-    proc = subprocess.run([sys.executable, "-S", __file__, str(zip_path)], cwd=workdir, env=env,
+    args = [sys.executable, "-S", __file__, str(zip_path), *(["--install-only"] if only_install else [])]
+    proc = subprocess.run(args, cwd=workdir, env=env,
                           capture_output=True, text=True, timeout=300, check=False)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     return json.loads(proc.stdout.strip().splitlines()[-1])
@@ -182,4 +194,4 @@ def verify(out, workdir, platform, shipped):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1])
+    (install_only if "--install-only" in sys.argv[2:] else main)(sys.argv[1])

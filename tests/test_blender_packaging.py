@@ -237,3 +237,12 @@ def test_release_zips_are_built_and_under_60_mb(tmp_path):
     blender_install_check.verify(out, workdir, here[0].platform, contents.heatcore_modules()[0])
     pinned = dict(req.split("==") for req in build.REQUIREMENTS)
     assert out["scipy_version"] == pinned["scipy"]  # the zip's scipy, not this Python's
+    # The zip of the other Python is refused by this Blender: its manifest's versions exclude it.
+    (other,) = [b for b in builds if b.platform == here[0].platform and b.python != here[0].python]
+    answers = {}
+    for b in (here[0], other):
+        workdir = tmp_path / f"only-{b.python}"
+        workdir.mkdir()
+        answers[b.python] = blender_install_check.run_installed(b.path, workdir, only_install=True)
+    assert answers[here[0].python]["installed"] == ["heat_geodesics"] and answers[here[0].python]["enabled"]
+    assert answers[other.python]["installed"] == [] and not answers[other.python]["enabled"], answers
