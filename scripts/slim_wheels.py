@@ -17,8 +17,12 @@ Examples
 """
 
 import fnmatch
+import sys
 import zipfile
 from pathlib import Path
+
+if str(Path(__file__).resolve().parent) not in sys.path:  # loaded by path (tests): find its neighbours
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from installed_wheels import record_line
 
