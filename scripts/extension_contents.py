@@ -110,3 +110,9 @@ def stage_sources(stage, repo=REPO):
         size += target.stat().st_size
     shutil.copy(repo / "LICENSE", vendor / "heatcore" / "LICENSE")  # MIT travels with it
     return size
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2 or Path(sys.argv[1]).exists():
+        raise SystemExit("usage: python scripts/extension_contents.py NEW_FOLDER  (stages the add-on with its slim heatcore)")
+    print(f"staged {stage_sources(Path(sys.argv[1]))} bytes of heatcore into {sys.argv[1]}/_vendor/heatcore")

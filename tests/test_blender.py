@@ -8,6 +8,7 @@ installs it into a fresh Blender user folder and runs the installed operator.
 
 import importlib.metadata
 import importlib.util
+import os
 import sys
 import zipfile
 from pathlib import Path
@@ -24,6 +25,9 @@ from heatcore.reference import mean_relative_error
 from heatcore.viz.colormap import colorize
 
 REPO = Path(__file__).resolve().parents[1]
+#: The add-on the tests load: this checkout's, or with ``HEATCORE_ADDON_DIR`` a staged extension whose
+#: ``_vendor/heatcore`` is the slim copy the zips carry (``python scripts/extension_contents.py DIR``).
+ADDON_DIR = Path(os.environ.get("HEATCORE_ADDON_DIR", REPO / "blender_addon"))
 
 
 def _load(name, path, package_dir=None):
@@ -42,7 +46,7 @@ def addon():
     # set as attributes of the new package (addon.shape, addon.adapters, ...).
     for name in [n for n in sys.modules if n == "blender_addon" or n.startswith("blender_addon.")]:
         del sys.modules[name]
-    module = _load("blender_addon", REPO / "blender_addon" / "__init__.py", REPO / "blender_addon")
+    module = _load("blender_addon", ADDON_DIR / "__init__.py", ADDON_DIR)
     module.register()
     yield module
     module.unregister()
