@@ -59,7 +59,7 @@ PLATFORMS = {
 
 #: Blender's Python -> the Blender versions that run it: (``blender_version_min``, ``blender_version_max``,
 #: exclusive as Blender reads it; None: open). The ``bpy`` wheels on PyPI say so: 4.2.0 - 5.0.1 are
-#: cp311 only (``Requires-Python ==3.11.*``), 5.1.2 - 5.3.0 cp313 only (``==3.13.*``).
+#: cp311 only (``Requires-Python ==3.11.*``), 5.1.2, 5.2.3 and 5.3.0 cp313 only (``==3.13.*``).
 BLENDER_PYTHONS = {"3.11": ("4.2.0", "5.1.0"), "3.13": ("5.1.0", None)}
 PYTHONS = list(BLENDER_PYTHONS)
 #: The Python whose zips must build; the others are skipped with a note when a wheel is missing.
