@@ -5,10 +5,12 @@ n-gons with 180-degree corners. Three panels, each with its polygon (or triangle
 distance from the centre and its isolines, and the mean relative error against the exact
 straight-line distance:
 
-1. ``PolygonMesh`` as it was until 2026-11-28: virtual refinement spans every polygon, concave
-   ones too (their fans fold);
-2. ``PolygonMesh`` now: concave polygons triangulated (heatcore/domains/polygon_triangulate.py);
-3. ``TriangleMesh`` on heatcore's own triangulation of the same polygons, the triangulated twin.
+1. virtual refinement on every polygon, concave ones too (their fans fold): ``PolygonMesh`` until
+   2026-11-28;
+2. ``PolygonMesh(virtual=True)``: concave and straight-cornered polygons triangulated, the others
+   spanned by virtual refinement (the default until 2026-11-29);
+3. ``PolygonMesh`` now (its default): heatcore's triangulation of every polygon, the same field as
+   ``TriangleMesh`` on that triangulation (the triangulated twin).
 
 Usage::
 
@@ -39,11 +41,12 @@ from concave_meshes import dissolved_grid  # noqa: E402  (Blender's Dissolve Edg
 
 
 def folded_polygon_mesh(V, P):
-    """``PolygonMesh`` with virtual refinement on every polygon, as before the concave ones were triangulated."""
+    """Virtual refinement on every polygon, as before the concave ones were triangulated."""
     kept = polygon_module.triangulate_where_needed
-    polygon_module.triangulate_where_needed = lambda X, offsets, corners, origin: (offsets, corners, origin, 0)
+    polygon_module.triangulate_where_needed = lambda X, offsets, corners, origin, keep=None: (offsets, corners,
+                                                                                              origin, 0)
     try:
-        return hc.PolygonMesh(V, P)
+        return hc.PolygonMesh(V, P, virtual=True)
     finally:
         polygon_module.triangulate_where_needed = kept
 
@@ -83,11 +86,15 @@ def main():
     exact = np.linalg.norm(V - V[source], axis=1)
     polygon_edges = sides(offsets, corners)
     triangle_edges = sides(np.arange(0, T.size + 1, 3), T.ravel())
-    now = hc.PolygonMesh(V, P)
+    virtual = hc.PolygonMesh(V, P, virtual=True)
     fields = [
-        (polygon_edges, hc.HeatSolver(folded_polygon_mesh(V, P)).distance([source]), "PolygonMesh until 2026-11-28\n(virtual fans fold on concave polygons)"),
-        (polygon_edges, hc.HeatSolver(now).distance([source]), f"PolygonMesh now\n({now.n_triangulated} concave or straight-cornered polygons triangulated)"),
-        (triangle_edges, hc.HeatSolver(hc.TriangleMesh(V, T)).distance([source]), "TriangleMesh on heatcore's\ntriangulation of the same polygons"),
+        (polygon_edges, hc.HeatSolver(folded_polygon_mesh(V, P)).distance([source]),
+         "virtual refinement on every polygon\n(until 2026-11-28: fans fold on concave ones)"),
+        (polygon_edges, hc.HeatSolver(virtual).distance([source]),
+         (f"virtual=True (the default until 2026-11-29)\n({virtual.n_triangulated} concave or straight-cornered "
+          "polygons triangulated)")),
+        (triangle_edges, hc.HeatSolver(hc.PolygonMesh(V, P)).distance([source]),
+         "PolygonMesh now: heatcore's triangulation\n(the same field as TriangleMesh on it)"),
     ]
     fig, axes = plt.subplots(1, 3, figsize=(13.5, 5.4))
     for ax, (edges, d, title) in zip(axes, fields):
