@@ -314,10 +314,14 @@ def triangulate_where_needed(X, offsets, corners, origin, keep=None):
     >>> np.diff(o).tolist(), origin.tolist(), n
     ([3, 3, 3, 3, 3], [5, 4, 4, 4, 4], 1)
     """
-    concave = polygons_to_triangulate(X, offsets, corners)
-    if keep is not None:
-        concave |= ~keep & (np.diff(offsets) > 3)
-    concave |= mostly_triangles(X, offsets, corners, concave)
+    big = np.diff(offsets) > 3
+    if keep is not None and not keep[big].any():
+        concave = big  # every polygon triangulated: no shape to check
+    else:
+        concave = polygons_to_triangulate(X, offsets, corners)
+        if keep is not None:
+            concave |= ~keep & big
+        concave |= mostly_triangles(X, offsets, corners, concave)
     if not concave.any():
         return offsets, corners, origin, 0
     sizes = np.diff(offsets)
