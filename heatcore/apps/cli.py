@@ -17,7 +17,8 @@ status 2: the command line itself is wrong, found before any file is read
 index no mesh can have; ``heatcore: error: ...`` for output names: an
 unknown extension, a ``--png`` not named ``.png``, an output that is an
 input without ``--overwrite``). Exit status 1: a file is (bad mesh, bad
-sources file, a source beyond the mesh's vertices, a missing output folder).
+sources file, a source beyond the mesh's vertices, an output that cannot be
+written). A missing output folder is created, in every command.
 Outputs are written atomically (:mod:`heatcore.apps.outputs`).
 
 Examples

@@ -299,7 +299,6 @@ def _save_ply(ms, output, binary=True):
     a temporary file beside the output, created with the process's umask (0644 under
     the usual 022, not a private temporary file's 0600), renamed over the output.
     """
-    output.parent.mkdir(parents=True, exist_ok=True)
     with atomic_output(output) as tmp:
         ms.save_current_mesh(
             str(tmp),

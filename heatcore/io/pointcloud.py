@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InvalidMeshError, short
+from .files import check_input_file
 from .mesh import meshio_read
 
 #: Suffixes read as XYZ text.
@@ -76,13 +77,12 @@ def read_point_cloud(path):
     (2930, 3)
     """
     path = Path(path)
-    if not path.is_file():
-        raise InvalidMeshError(f"point cloud file not found: {path}")
     suffix = path.suffix.lower()
     if suffix not in POINT_CLOUD_SUFFIXES:
         raise InvalidMeshError(
             f"cannot read {path}: point clouds are read from {', '.join(sorted(POINT_CLOUD_SUFFIXES))} files"
         )
+    check_input_file(path, "point cloud file")
     try:
         if suffix in (".ply", ".obj"):  # a file whose data does not match its header or faces is an error
             from .checks import check_mesh_file
