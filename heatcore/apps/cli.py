@@ -58,6 +58,7 @@ from .inputs import check_sources, command_line_sources, gather_sources, read_me
 from .logmap import run_logmap
 from .outputs import (  # noqa: F401 (check_outputs_fit, OUTPUT_SUFFIXES: part of this module's API)
     OUTPUT_SUFFIXES,
+    PNG_ISOLINES,
     VOLUME_OUTPUT_SUFFIXES,
     CliError,
     UsageError,
@@ -220,7 +221,7 @@ def run_distance(args):
     curves = args.isolines_out[0] if args.isolines_out else None
     if not args.output and args.png is None and curves is None:
         raise UsageError("nothing to write: give -o/--output FILE (.ply, .npy, .csv), --png PATH "
-                         "and/or --isolines-out PATH N")
+                         "and/or --isolines-out PATH [N]")
     check_output_paths(args.output, args.png, [args.mesh, *(args.sources_file or [])], args.overwrite, curves)
     settings = settings_of(args, intent="one query")  # one source set: the backend that factors fastest
     given = command_line_sources(args)
@@ -254,7 +255,8 @@ def run_distance(args):
         print(f"wrote {args.png}")
     if curves is not None:
         with timed_stage("isolines"):
-            written = write_isolines(curves, mesh.vertices, mesh.surface, d, args.isolines_out[1])
+            count = args.isolines_out[1] or args.isolines or PNG_ISOLINES  # N omitted: the PNG's lines
+            written = write_isolines(curves, mesh.vertices, mesh.surface, d, count)
         print(f"wrote {curves}  ({len(written)} isoline curves)")
     return 0
 
