@@ -73,12 +73,18 @@ def test_a_binary_stl_with_a_wrong_triangle_count(count, tmp_path, capsys):
     refused(path, capsys, why, tmp_path, ["--domain", "polygon"])
 
 
-def test_a_whole_binary_stl_is_read(tmp_path, capsys):
-    path = tmp_path / "m.stl"
-    path.write_bytes(binary_stl(4))
-    code, _, err = run(["distance", path, "-s", 0, "-o", tmp_path / "d.npy", "--refine", "0", "-q"], capsys)
-    assert (code, err) == (0, "")
-    assert np.load(tmp_path / "d.npy").shape == (12,)  # STL: three corners per triangle, unwelded by trimesh
+def test_a_whole_binary_stl_and_an_ascii_one_with_a_latin1_name_are_read(tmp_path, capsys):
+    facets = "".join(" facet normal 0 0 0\n  outer loop\n" + "".join(f"   vertex {x:g} {y:g} {z:g}\n" for x, y, z in V[f])
+                     + "  endloop\n endfacet\n" for f in F)
+    (tmp_path / "b.stl").write_bytes(binary_stl(4))
+    (tmp_path / "a.stl").write_bytes(f"solid {'x' * 100} caf\xe9\n{facets}endsolid\n".encode("latin-1"))
+    for name in ("b", "a"):  # the ASCII name is longer than a binary header: it must not be taken for one
+        code, _, err = run(["distance", tmp_path / f"{name}.stl", "-s", 0, "-o", tmp_path / f"{name}.npy",
+                            "--refine", "0", "-q"], capsys)
+        assert (code, err) == (0, "")
+    binary, ascii_ = np.load(tmp_path / "b.npy"), np.load(tmp_path / "a.npy")
+    assert binary.shape == (12,)  # STL: three corners per triangle, unwelded by trimesh
+    np.testing.assert_array_equal(ascii_, binary)
 
 
 def test_a_folder_a_fifo_and_dev_null_are_not_mesh_files(tmp_path, capsys):

@@ -6,8 +6,8 @@ triangle count does not match its size, trimesh tried to decode it as text and
 failed on a missing optional package (``charset_normalizer``). Every reader of
 :mod:`heatcore.io` calls :func:`check_input_file` first, so that each of these
 is one :class:`~heatcore.errors.InvalidMeshError` about the file.
-:func:`utf8_text` gives the text readers UTF-8: a byte that is not UTF-8
-(a Latin-1 ``é`` in a comment) is read as Latin-1.
+:func:`utf8_text` gives the text readers UTF-8 (the files :func:`is_text_mesh`
+names): a byte that is not UTF-8 (a Latin-1 ``é`` in a comment) is read as Latin-1.
 
 Examples
 --------
@@ -86,8 +86,9 @@ def check_input_file(path, noun="mesh file"):
 def check_stl_size(path, head, size, noun="mesh file"):
     """Raise when a binary STL's size is not 84 bytes plus 50 per triangle its header counts.
 
-    A file that begins with ``solid`` and holds ``facet`` in its first bytes
-    is taken as text (ASCII STL) and not checked here.
+    A file that begins with ``solid`` is taken as text (ASCII STL) and not
+    checked here, unless its size is a binary STL's (some binary headers begin
+    with ``solid`` too).
 
     Parameters
     ----------
@@ -105,7 +106,7 @@ def check_stl_size(path, head, size, noun="mesh file"):
     ...
     heatcore.errors.InvalidMeshError: cannot read mesh file t.stl: its binary STL header declares 3 triangles (84 + 50 x 3 = 234 bytes) but the file has 134 bytes (a truncated file, or a wrong count)
     """
-    if head.lstrip().startswith(b"solid") and (b"facet" in head or b"endsolid" in head):
+    if not _binary_stl(head, size):
         return  # ASCII STL
     if len(head) < 84:
         raise InvalidMeshError(f"cannot read {noun} {path}: {size} bytes, too short for a binary STL "
@@ -115,6 +116,30 @@ def check_stl_size(path, head, size, noun="mesh file"):
         raise InvalidMeshError(f"cannot read {noun} {path}: its binary STL header declares {count} triangles "
                                f"(84 + 50 x {count} = {84 + 50 * count} bytes) but the file has {size} bytes "
                                "(a truncated file, or a wrong count)")
+
+
+def _binary_stl(head, size):
+    """Whether an STL file of ``size`` bytes starting with ``head`` is binary (as trimesh decides)."""
+    if not head.lstrip().startswith(b"solid"):
+        return True
+    return len(head) >= 84 and size == 84 + 50 * struct.unpack("<I", head[80:84])[0]
+
+
+def is_text_mesh(path):
+    """Whether trimesh reads ``path`` as text: an OBJ, an OFF or an ASCII STL file.
+
+    Examples
+    --------
+    >>> from heatcore.io import demo_mesh_path
+    >>> is_text_mesh(demo_mesh_path()), is_text_mesh("scene.glb")
+    (True, False)
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix != ".stl":
+        return suffix in (".obj", ".off")
+    with open(path, "rb") as f:
+        return not _binary_stl(f.read(84), path.stat().st_size)
 
 
 def utf8_text(data):

@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import MAX_DETAIL, InvalidMeshError, NoFacesError, short  # noqa: F401 (short, MAX_DETAIL: kept importable here)
-from .files import check_input_file, utf8_text
+from .files import check_input_file, is_text_mesh, utf8_text
 
 #: MeshLab (VCG) stores the selection in bit 5 of the per-vertex ``flags`` PLY property.
 MESHLAB_SELECTED_FLAG = 0x20
@@ -157,7 +157,7 @@ def _read_trimesh(path, scan):
         return SurfaceMesh(scan.vertices, triangulate_faces(scan.vertices, *scan.polygons,
                                                             f"cannot read mesh file {path}"))
     text = scan.text
-    if path.suffix.lower() != ".stl" or text is not None:  # text formats: a Latin-1 byte must not stop trimesh
+    if is_text_mesh(path):  # a Latin-1 byte must not stop trimesh (it would ask charset_normalizer)
         text = utf8_text(text if text is not None else path.read_bytes())
     if scan.materials:  # trimesh splits an OBJ at each usemtl, each part with its own copy of the vertices
         text = (text if text is not None else path.read_bytes()).replace(b"usemtl", b"usemt_")
