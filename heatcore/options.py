@@ -101,6 +101,9 @@ class Option:
     high_why : str, optional
         Why values above ``high`` are refused: the error for one says it
         (``m``: past :data:`M_MAX` the heat flow has no digits left).
+    picture_help : str, optional
+        What the option does to a PNG picture, in the help of the commands
+        that draw one only (``heatcore logmap`` draws none).
 
     Examples
     --------
@@ -133,6 +136,7 @@ class Option:
     front_end_defaults: tuple = ()
     switch_help: str = None
     high_why: str = None
+    picture_help: str = ""
 
     def requirement(self, with_none=True):
         """What a value must be, in words.
@@ -239,13 +243,18 @@ class Option:
             why = self._why(value)
             raise argparse.ArgumentTypeError(f"must be {self.requirement(False)}, got {text!r}{why}") from None
 
-    def help_text(self, front_end="cli"):
-        """Help with the front end's default appended (argparse: ``%`` escaped by the caller)."""
+    def help_text(self, front_end="cli", picture=True):
+        """Help with the front end's default appended (argparse: ``%`` escaped by the caller).
+
+        ``picture``: whether the command draws a PNG (``picture_help`` and the default it shows).
+        """
         shown = next((text for end, _, text in self.front_end_defaults if end == front_end), None)
-        if shown is None:
+        if not picture and self.picture_help:
+            shown = self.default
+        elif shown is None:
             shown = {True: "on", False: "off"}.get(self.default, self.default) if self.type is bool else self.default
         limit = f"; at most {self.high:g}" if self.high_why else ""  # a range that is not the type's own
-        return f"{self.help}{limit} (default: {shown})"
+        return f"{self.help}{self.picture_help if picture else ''}{limit} (default: {shown})"
 
 
 #: Largest time factor ``m`` a user may give (``t = m h^2``). Measured (tests/test_time_factor_range.py
@@ -346,15 +355,15 @@ _OPTIONS = (
     ),
     Option(
         "colormap", "colormap", str, "viridis", "none (a choice)",
-        "perceptual colormap of the vertex colors (and of a PNG picture)",
+        "perceptual colormap of the vertex colors",
         "output", choices=COLORMAP_NAMES, choice_help=tuple(f"Perceptual colormap {c}" for c in COLORMAP_NAMES),
-        flag="--colormap",
+        flag="--colormap", picture_help=" (and of the PNG picture)",
     ),
     Option(
         "isolines", "isoline count", int, 0, "count (evenly spaced in distance)",
-        "number of evenly spaced isolines: dark stripes in the vertex colors (and lines in a PNG "
-        "picture); 0: none",
+        "number of evenly spaced isolines (0: none): dark stripes in the vertex colors",
         "output", low=0, flag="--isolines", metavar="N", ui_label="Isolines", soft_max=50,
+        picture_help=" (and lines in the PNG picture)",
         front_end_defaults=(("cli", None, "none in the PLY, 12 in the PNG"), ("blender", 10, "10")),
     ),
     Option("weight_radius", "weight radius", float, None, "mesh units (a length; scene units in Blender's World space)",
@@ -431,11 +440,12 @@ def defaults(target):
     return {opt.name: opt.default for opt in _OPTIONS if opt.target == target}
 
 
-def add_argument(parser, name, *, front_end="cli", extra=(), note=""):
+def add_argument(parser, name, *, front_end="cli", extra=(), note="", picture=True):
     """Add option ``name``'s flags to an argparse parser or group.
 
     The help is the option's help plus the front end's default; ``extra``
-    choices and a ``note`` may widen it (MeshLab's colour ramps). An option
+    choices and a ``note`` may widen it (MeshLab's colour ramps); ``picture``
+    False leaves out what it does to a PNG (a command that draws none). An option
     that may be None gets its two flags in a mutually exclusive group.
 
     Examples
@@ -448,7 +458,7 @@ def add_argument(parser, name, *, front_end="cli", extra=(), note=""):
     0.5
     """
     opt = OPTIONS[name]
-    help = (opt.help_text(front_end) if not note else f"{opt.help}; {note} (default: {opt.default_for(front_end)})")
+    help = (opt.help_text(front_end, picture) if not note else f"{opt.help}; {note} (default: {opt.default_for(front_end)})")
     help = help.replace("%", "%%")
     default = opt.default_for(front_end)
     if opt.off_flag and opt.none_means:  # --weld-tolerance TOL | --no-weld

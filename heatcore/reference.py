@@ -16,6 +16,39 @@ from typing import NamedTuple
 import numpy as np
 
 
+def import_gdist():
+    """The ``gdist`` module, or an ImportError that says why it cannot be used.
+
+    gdist 2.1.0's wheels are built against numpy 1: under numpy 2 its import
+    fails with a ``ValueError`` ("numpy.dtype size changed"), turned here into
+    the ImportError of a missing package (the ``test`` extra pins ``numpy<2``).
+
+    Returns
+    -------
+    module
+
+    Raises
+    ------
+    ImportError
+        gdist is not installed, or cannot be imported with this numpy.
+
+    Examples
+    --------
+    >>> try:
+    ...     found = import_gdist().__name__
+    ... except ImportError as missing:  # the message names the package
+    ...     found = "gdist" if "gdist" in str(missing) else str(missing)
+    >>> found
+    'gdist'
+    """
+    try:
+        import gdist
+    except ValueError as exc:  # binary incompatibility with the installed numpy
+        raise ImportError(f"gdist cannot be imported with numpy {np.__version__}: {exc} "
+                          "(its wheels are built against numpy 1: install numpy<2)") from exc
+    return gdist
+
+
 def exact_distance(V, F, sources):
     """Exact geodesic distance from ``sources`` on the vertices used by ``F``; ``inf`` elsewhere.
 
@@ -32,13 +65,15 @@ def exact_distance(V, F, sources):
     Examples
     --------
     >>> import pytest
-    >>> _ = pytest.importorskip("gdist")  # the test and bench extras
+    >>> try:
+    ...     _ = import_gdist()
+    ... except ImportError as missing:  # not installed, or built against another numpy
+    ...     pytest.skip(str(missing))
     >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
     >>> exact_distance(V, np.array([[0, 1, 2], [1, 3, 2]], dtype=np.int32), [0]).round(4).tolist()
     [0.0, 1.0, 1.0, 1.4142]
     """
-    import gdist
-
+    gdist = import_gdist()
     used = np.unique(F)
     vmap = np.full(len(V), -1)
     vmap[used] = np.arange(used.size)
@@ -121,6 +156,10 @@ def exact_directions(V, F, source, targets, tolerance=1e-12):
     --------
     >>> import pytest
     >>> _ = pytest.importorskip("potpourri3d")
+    >>> try:
+    ...     _ = import_gdist()
+    ... except ImportError as missing:  # not installed, or built against another numpy
+    ...     pytest.skip(str(missing))
     >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
     >>> found = exact_directions(V, np.array([[0, 1, 2], [1, 3, 2]]), 0, np.array([1, 3, 2]))
     >>> np.round(np.degrees(found.angle)).tolist(), found.shortest.tolist()  # a boundary corner: unscaled

@@ -28,6 +28,7 @@ import sys
 import tempfile
 from pathlib import Path
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bmesh
 import bpy
 import numpy as np

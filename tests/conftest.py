@@ -17,6 +17,9 @@ except ImportError:
 from heatcore.reference import exact_distance, mean_relative_error  # noqa: E402,F401 (used by tests)
 
 REPO = Path(__file__).resolve().parents[1]
+
+#: A script run inside a bare Blender process by tests/test_blender.py (no pytest there), not a test module.
+collect_ignore = ["blender_install_check.py"]
 MESH_DIR = Path(os.environ.get("HEATCORE_MESHES", REPO.parent / "shared" / "meshes"))
 
 

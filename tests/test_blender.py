@@ -13,6 +13,7 @@ import sys
 import zipfile
 from pathlib import Path
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import blender_install_check
 import bmesh
 import bpy

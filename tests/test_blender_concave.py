@@ -7,6 +7,7 @@ heatcore's own triangulation of the same polygons, and of core ``PolygonMesh``'s
 straight-line distance is exact: the grid is a flat square).
 """
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import numpy as np
 import pytest
 from test_blender import addon, attribute, empty_scene  # noqa: F401 (fixtures)

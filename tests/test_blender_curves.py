@@ -1,5 +1,6 @@
 """The *Isoline Curves* operator (real ``bpy``): one curve object, a spline per isoline of the distance attribute."""
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bpy
 import numpy as np
 import pytest

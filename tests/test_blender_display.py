@@ -6,6 +6,7 @@ source selections that deserve a warning (a whole fresh primitive, loose
 vertices).
 """
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bmesh
 import bpy
 import numpy as np

@@ -8,6 +8,7 @@ given, the panel holding other values.
 
 import importlib
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bpy
 import pytest
 from test_blender import addon, empty_scene  # noqa: F401 (fixtures)

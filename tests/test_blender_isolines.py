@@ -1,6 +1,7 @@
 """Blender 5 reads the OBJ polylines of ``--isolines-out`` (heatcore.io.curves): its importer makes the
 ``l`` elements edges of a mesh, and converting that mesh to a curve gives one spline per isoline."""
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bpy
 import numpy as np
 from test_blender import empty_scene  # noqa: F401 (autouse fixture: each test starts with no objects)

@@ -25,6 +25,7 @@ What is checked, and how:
 
 from types import SimpleNamespace
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bmesh
 import bpy
 import numpy as np

@@ -16,6 +16,7 @@ import sys
 import traceback
 from pathlib import Path
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bpy
 import numpy as np
 import pytest

@@ -14,6 +14,7 @@ import importlib
 import threading
 import time
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bpy
 import numpy as np
 import pytest

@@ -3,6 +3,7 @@
 import importlib
 import inspect
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import numpy as np
 import pytest
 from test_blender import addon, empty_scene, ico_sphere  # noqa: F401 (fixtures)

@@ -7,6 +7,7 @@ another part builds that one; the probe and paths (sources placed later)
 build every part.
 """
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bpy
 import numpy as np
 import pytest

@@ -1,5 +1,6 @@
 """The *Geodesic Path* operator and ``geodesic_path`` (real ``bpy``): a curve object on the shape the user sees."""
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bmesh
 import bpy
 import numpy as np

@@ -1,5 +1,6 @@
 """*Geodesic Path* through waypoints (issue 36): vertices clicked one by one, visited in that order, closed or not."""
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bmesh
 import bpy
 import numpy as np

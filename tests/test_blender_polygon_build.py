@@ -13,6 +13,7 @@ the script API's warnings.
 
 import importlib
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bpy
 import numpy as np
 import pytest

@@ -9,6 +9,7 @@ cache keeps a mesh's polygon and triangle solvers apart; a bowtie quad is
 measured as its fan triangles, with a warning.
 """
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bpy
 import numpy as np
 import pytest

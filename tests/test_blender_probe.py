@@ -12,6 +12,7 @@ import importlib
 import tracemalloc
 from dataclasses import dataclass
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bpy
 import numpy as np
 import pytest

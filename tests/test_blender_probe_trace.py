@@ -4,6 +4,7 @@ On a flat grid (seen from above) the trace from the press is the straight segmen
 cursor, as long as it, and follows the mouse; without sources, Enter writes only the trace.
 """
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bpy
 import numpy as np
 from test_blender import addon, empty_scene  # noqa: F401 (fixtures)

@@ -17,6 +17,7 @@ heatcore on the mesh turned by an exact rotation.
 import doctest
 import importlib
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bpy
 import numpy as np
 import pytest

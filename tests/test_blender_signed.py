@@ -5,6 +5,7 @@ distance to the square: positive inside, exact up to the heat method's error. Th
 inside, the weights, no edge, other attributes untouched, Edit Mode kept, one undo step.
 """
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bmesh
 import bpy
 import numpy as np

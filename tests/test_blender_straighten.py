@@ -5,6 +5,7 @@ staircase along it replaces the L); a square-wave loop of edges around a cylinde
 32-gon's perimeter); no edge is an error; one undo step.
 """
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bmesh
 import bpy
 import numpy as np

@@ -12,6 +12,7 @@ import inspect
 import re
 from pathlib import Path
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bmesh
 import bpy
 import numpy as np

@@ -8,6 +8,7 @@ heatcore called on the same arrays.
 
 from pathlib import Path
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bpy
 import numpy as np
 import pytest

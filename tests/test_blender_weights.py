@@ -9,6 +9,7 @@ collisions between the weight group, attributes and vertex groups refused
 before anything is modified.
 """
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bmesh
 import bpy
 import numpy as np

@@ -16,6 +16,7 @@ as triangles), 2.57% as connected in Blender (polygons).
 
 import importlib
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bpy
 import numpy as np
 import pytest

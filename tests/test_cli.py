@@ -191,7 +191,7 @@ def test_progress_lines_and_png(sphere_obj, tmp_path, capsys):
         ("sources-file", "line 2: 'x' is not a vertex index", 1),
         ("empty-sources-file", "holds no vertex indices", 1),
         ("no-output", "nothing to write", 2),
-        ("output-folder", "does not exist", 1),
+        ("output-folder", "is a file, not a folder", 1),
         ("colormap-option", "invalid choice", 2),
         ("m-option", "must be a positive number", 2),
     ],
@@ -215,7 +215,7 @@ def test_bad_inputs_fail_with_one_line(case, message, status, sphere_obj, tmp_pa
         "sources-file": ["distance", path, "--sources-file", bad_src, "-o", out],
         "empty-sources-file": ["distance", path, "--sources-file", empty_src, "-o", out],
         "no-output": ["distance", path, "-s", 0],
-        "output-folder": ["distance", path, "-s", 0, "-o", tmp_path / "nowhere" / "d.npy"],
+        "output-folder": ["distance", path, "-s", 0, "-o", bad_src / "d.npy"],
         "colormap-option": ["distance", path, "-s", 0, "-o", out, "--colormap", "jet"],
         "m-option": ["distance", path, "-s", 0, "-o", out, "--m", "-1"],
     }[case]

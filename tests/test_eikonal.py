@@ -189,8 +189,8 @@ def test_high_accuracy_on_shared_meshes(name, request):
         assert np.array_equal(np.isinf(d), np.isinf(exact))
         errs_high.append(mean_relative_error(d, exact))
         errs_smooth.append(mean_relative_error(smooth.distance([s]), exact))
-    # measured (docs/accuracy-high.md): 0.10% (nefertiti) to 0.27% (cheburashka)
-    assert np.mean(errs_high) <= 0.005
+    # measured (docs/accuracy-high.md): 0.10% (nefertiti) to 0.27% (cheburashka); the README states 0.1-0.3%
+    assert np.mean(errs_high) <= 0.003
     assert max(errs_high) <= 0.005
     assert np.mean(errs_high) < 0.4 * np.mean(errs_smooth)
 

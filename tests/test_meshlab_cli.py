@@ -47,14 +47,17 @@ def test_written_ply_is_0644_like_every_writer(grid_obj, tmp_path, capsys, umask
 @pytest.mark.parametrize("entry", ENTRY_POINTS)
 @pytest.mark.parametrize("case, message", [
     ("missing file", "does not exist"),
+    ("a folder", "it is a folder, not a regular file"),
     ("no selection", "no selected vertices or faces"),
     ("out of range", "out of range"),
     ("selects nothing", "selects no vertex"),
 ])
 def test_documented_exit_status_2(grid_obj, tmp_path, capsys, entry, case, message):
-    extra = {"missing file": [], "no selection": [], "out of range": ["-s", "999"],
+    extra = {"missing file": [], "a folder": [], "no selection": [], "out of range": ["-s", "999"],
              "selects nothing": ["--select", "y > 1e9"]}[case]
-    mesh = tmp_path / "missing.obj" if case == "missing file" else grid_obj
+    mesh = {"missing file": tmp_path / "missing.obj", "a folder": tmp_path / "meshes.obj"}.get(case, grid_obj)
+    if case == "a folder":
+        mesh.mkdir()
     out = tmp_path / "out.ply"
     assert ENTRY_POINTS[entry]([mesh, "-o", out, *extra]) == 2
     err = capsys.readouterr().err

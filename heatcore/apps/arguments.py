@@ -43,6 +43,9 @@ class OneLineErrorParser(argparse.ArgumentParser):
     2
     """
 
+    def __init__(self, *args, formatter_class=None, **kwargs):
+        super().__init__(*args, formatter_class=formatter_class or _HelpFormatter, **kwargs)
+
     def error(self, message):
         self.exit(2, f"{self.prog}: error: {short(message, 400)} (see '{self.prog} --help')\n")
 
@@ -139,10 +142,11 @@ def add_output_options(parser, png_help=None, view_default=None, colormap=True):
     >>> args.colormap, args.isolines, args.png.name, args.view
     ('magma', None, 'd.png', {'azimuth': -40.0, 'elevation': 20.0})
     """
-    group = parser.add_argument_group("picture and colors")
+    picture = bool(png_help or view_default)
+    group = parser.add_argument_group("picture and colors" if picture else "colors")
     if colormap:
-        options.add_argument(group, "colormap")
-    options.add_argument(group, "isolines")
+        options.add_argument(group, "colormap", picture=picture)
+    options.add_argument(group, "isolines", picture=picture)
     if png_help:
         group.add_argument("--png", type=Path, default=None, metavar="PATH", help=png_help)
     if png_help or view_default:
@@ -252,33 +256,56 @@ def distance_arguments(p):
     add_output_options(p, png_help="also write a PNG picture of the distance field (matplotlib); "
                                    "a name ending in .png",
                        view_default="facing the first source, from outside the surface at it (its marker in view)")
-    p.add_argument("--isolines-out", nargs=2, action=_IsolinesOut, default=None, metavar=("PATH", "N"),
+    p.add_argument("--isolines-out", action=PathAndCount, default=None,
                    help="also write N isoline curves of the distance as polylines, at max*j/(N+1) for j = 1..N "
-                        "(the levels of the PNG's lines); format by extension: " + curve_formats_help())
+                        "(the levels of the PNG's lines; N defaults to --isolines, else 12: the PNG's lines); "
+                        "format by extension: " + curve_formats_help())
     add_solver_options(p)
     add_common_options(p)
 
 
-class _IsolinesOut(argparse.Action):
-    """``--isolines-out PATH N``: ``(Path, int)``, ``N`` at least 1 (a usage error otherwise).
+class PathAndCount(argparse.Action):
+    """``--isolines-out PATH [N]``: ``(Path, int or None)``, ``N`` at least ``minimum`` (a usage error otherwise).
+
+    ``N`` left out is None: the command picks its default (the levels of its PNG).
 
     Examples
     --------
     >>> p = OneLineErrorParser(prog="demo")
-    >>> _ = p.add_argument("--isolines-out", nargs=2, action=_IsolinesOut)
+    >>> _ = p.add_argument("--isolines-out", action=PathAndCount)
     >>> p.parse_args(["--isolines-out", "c.obj", "8"]).isolines_out
     (PosixPath('c.obj'), 8)
+    >>> p.parse_args(["--isolines-out", "c.obj"]).isolines_out
+    (PosixPath('c.obj'), None)
+    >>> p.format_usage().strip()
+    'usage: demo [-h] [--isolines-out PATH [N]]'
     """
 
+    def __init__(self, option_strings, dest, minimum=1, **kwargs):
+        super().__init__(option_strings, dest, nargs="+", metavar=("PATH", "N"), **kwargs)
+        self.minimum = minimum
+
     def __call__(self, parser, namespace, values, option_string=None):
-        path, count = values
-        try:
-            count = parse_non_negative_int(count)
-        except argparse.ArgumentTypeError as exc:
-            parser.error(f"argument {option_string}: N {exc}")
-        if count < 1:
-            parser.error(f"argument {option_string}: N must be at least 1, got {count}")
-        setattr(namespace, self.dest, (Path(path), count))
+        if len(values) > 2:
+            parser.error(f"argument {option_string}: expected PATH [N], got {len(values)} values")
+        count = None
+        if len(values) == 2:
+            try:
+                count = parse_non_negative_int(values[1])
+            except argparse.ArgumentTypeError as exc:
+                parser.error(f"argument {option_string}: N {exc}")
+            if count < self.minimum:
+                parser.error(f"argument {option_string}: N must be at least {self.minimum}, got {count}")
+        setattr(namespace, self.dest, (Path(values[0]), count))
+
+
+class _HelpFormatter(argparse.HelpFormatter):
+    """argparse's, with a :class:`PathAndCount` option shown as ``PATH [N]`` (not ``PATH [N ...]``)."""
+
+    def _format_args(self, action, default_metavar):
+        if isinstance(action, PathAndCount):
+            return "{} [{}]".format(*action.metavar)
+        return super()._format_args(action, default_metavar)
 
 
 def demo_arguments(p):

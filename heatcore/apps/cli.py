@@ -17,7 +17,8 @@ status 2: the command line itself is wrong, found before any file is read
 index no mesh can have; ``heatcore: error: ...`` for output names: an
 unknown extension, a ``--png`` not named ``.png``, an output that is an
 input without ``--overwrite``). Exit status 1: a file is (bad mesh, bad
-sources file, a source beyond the mesh's vertices, a missing output folder).
+sources file, a source beyond the mesh's vertices, an output that cannot be
+written). A missing output folder is created, in every command.
 Outputs are written atomically (:mod:`heatcore.apps.outputs`).
 
 Examples
@@ -57,6 +58,7 @@ from .inputs import check_sources, command_line_sources, gather_sources, read_me
 from .logmap import run_logmap
 from .outputs import (  # noqa: F401 (check_outputs_fit, OUTPUT_SUFFIXES: part of this module's API)
     OUTPUT_SUFFIXES,
+    PNG_ISOLINES,
     VOLUME_OUTPUT_SUFFIXES,
     CliError,
     UsageError,
@@ -219,7 +221,7 @@ def run_distance(args):
     curves = args.isolines_out[0] if args.isolines_out else None
     if not args.output and args.png is None and curves is None:
         raise UsageError("nothing to write: give -o/--output FILE (.ply, .npy, .csv), --png PATH "
-                         "and/or --isolines-out PATH N")
+                         "and/or --isolines-out PATH [N]")
     check_output_paths(args.output, args.png, [args.mesh, *(args.sources_file or [])], args.overwrite, curves)
     settings = settings_of(args, intent="one query")  # one source set: the backend that factors fastest
     given = command_line_sources(args)
@@ -253,7 +255,8 @@ def run_distance(args):
         print(f"wrote {args.png}")
     if curves is not None:
         with timed_stage("isolines"):
-            written = write_isolines(curves, mesh.vertices, mesh.surface, d, args.isolines_out[1])
+            count = args.isolines_out[1] or args.isolines or PNG_ISOLINES  # N omitted: the PNG's lines
+            written = write_isolines(curves, mesh.vertices, mesh.surface, d, count)
         print(f"wrote {curves}  ({len(written)} isoline curves)")
     return 0
 

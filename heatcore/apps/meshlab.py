@@ -48,6 +48,7 @@ from ..errors import (
     InvalidOptionError,
     InvalidSourceError,
 )
+from ..io.files import check_input_file
 from ..settings import FRONT_END_OPTIONS, Settings
 from .inputs import SOURCE_FLAGS, SourcesAction
 from .meshlab_filter import (  # noqa: F401 - re-exported: the filter's public names
@@ -190,8 +191,9 @@ def run(args):
         raise HeatcoreError("this command needs pymeshlab: pip install pymeshlab") from exc
 
     path = Path(args.input)
-    if not path.is_file():
+    if not path.exists():
         raise InvalidMeshError(f"input file {path} does not exist")
+    check_input_file(path)  # a folder, FIFO, device, compressed or cut-short file: said as such
     output = Path(args.output) if args.output else path.with_name(path.stem + "_distance.ply")
     if output.suffix.lower() != ".ply":
         raise InvalidOptionError(f"output {output} must be a .ply file (MeshLab keeps quality and selection in PLY)")
@@ -299,7 +301,6 @@ def _save_ply(ms, output, binary=True):
     a temporary file beside the output, created with the process's umask (0644 under
     the usual 022, not a private temporary file's 0600), renamed over the output.
     """
-    output.parent.mkdir(parents=True, exist_ok=True)
     with atomic_output(output) as tmp:
         ms.save_current_mesh(
             str(tmp),

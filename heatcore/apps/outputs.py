@@ -5,9 +5,11 @@ An output is first written to a hidden temporary file in its own folder
 then moved over the target with :func:`os.replace`: a crash, a Ctrl-C or a
 failing writer never leaves a half-written file, and an existing file is
 replaced whole or not at all. Output names are checked before the mesh is
-read: a known extension, a ``.png`` picture, no name given twice, an
-existing folder, and no output that is one of the command's inputs (unless
-``overwrite``).
+read: a known extension, a ``.png`` picture, no name given twice, not a
+folder, and no output that is one of the command's inputs (unless
+``overwrite``). One rule for output folders, in every command: a missing
+folder is created when the file is written (as ``mkdir -p`` would); a file
+standing where a folder must be is refused before any work.
 
 Errors: :class:`UsageError` (exit status 2) for a command line that
 contradicts itself, :class:`CliError` (exit status 1) for the file system.
@@ -73,7 +75,7 @@ def atomic_output(path):
     Parameters
     ----------
     path : str or path-like
-        The file to write. Its folder must exist.
+        The file to write. Its folder is created when missing.
 
     Yields
     ------
@@ -100,13 +102,16 @@ def atomic_output(path):
     path = Path(path)
     tmp = path.with_name(f".{path.stem}.tmp-{secrets.token_hex(4)}{path.suffix}")
     try:
+        path.parent.mkdir(parents=True, exist_ok=True)
         yield tmp
         with open(tmp, "rb+") as f:  # on disk before the rename makes it visible
             os.fsync(f.fileno())
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         with contextlib.suppress(OSError):
             tmp.unlink()
+        if isinstance(exc, OSError):  # about the output, not the temporary file the user never named
+            raise CliError(f"cannot write {path}: {exc.strerror or exc}") from exc
         raise
 
 
@@ -151,7 +156,7 @@ def check_output_paths(outputs, png=None, inputs=(), overwrite=False, curves=Non
         Unknown extension, a picture not named ``.png``, curves not named ``.obj``, a name given twice,
         an output that is an input (without ``overwrite``).
     CliError
-        A missing output folder, or an output that is a folder.
+        An output that is a folder, or whose folder cannot be created.
 
     Examples
     --------
@@ -183,10 +188,41 @@ def check_output_paths(outputs, png=None, inputs=(), overwrite=False, curves=Non
             if not overwrite and same_file(out, source):
                 raise UsageError(f"output {out} is an input of this command; "
                                  "write elsewhere, or pass --overwrite to replace it")
-        if not out.parent.is_dir():
-            raise CliError(f"cannot write {out}: folder {out.parent} does not exist")
-        if out.is_dir():
-            raise CliError(f"cannot write {out}: it is a folder")
+        check_writable(out)
+
+
+def check_writable(out):
+    """Refuse an output that is a folder, or whose folder cannot be created (a file stands on its way).
+
+    Parameters
+    ----------
+    out : path-like
+
+    Raises
+    ------
+    CliError
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> note = Path(tmp.name) / "note.txt"
+    >>> _ = note.write_text("")
+    >>> check_writable(Path(tmp.name) / "new" / "d.npy")  # a missing folder: created when written
+    >>> check_writable(note / "d.npy")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    heatcore.apps.outputs.CliError: cannot write .../note.txt/d.npy: .../note.txt is a file, not a folder
+    >>> tmp.cleanup()
+    """
+    out = Path(out)
+    if out.is_dir():
+        raise CliError(f"cannot write {out}: it is a folder")
+    folder = out.parent
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
+    if folder.exists() and not folder.is_dir():
+        raise CliError(f"cannot write {out}: {folder} is a file, not a folder")
 
 
 def check_outputs_fit(outputs, png, kind, curves=None):

@@ -31,7 +31,7 @@ from ..errors import InvalidMeshError
 from ..io.curves import curve_formats_help, write_obj_curves, write_vtk_curves
 from .arguments import settings_of
 from .inputs import read_mesh_file
-from .outputs import CliError, UsageError, atomic_output, same_file
+from .outputs import UsageError, atomic_output, check_writable, same_file
 from .reporting import timed_stage
 
 #: Output formats of the polyline commands.
@@ -64,7 +64,7 @@ def check_outputs(outputs, mesh, overwrite):
     UsageError
         No output, an unknown extension, a name given twice, the mesh file itself (without ``overwrite``).
     CliError
-        An output whose folder does not exist, or that is a folder.
+        An output that is a folder, or whose folder cannot be created.
 
     Examples
     --------
@@ -83,10 +83,7 @@ def check_outputs(outputs, mesh, overwrite):
             raise UsageError(f"output {out} is given twice")
         if not overwrite and same_file(out, mesh):
             raise UsageError(f"output {out} is the mesh file; write elsewhere, or pass --overwrite to replace it")
-        if not out.parent.is_dir():
-            raise CliError(f"cannot write {out}: folder {out.parent} does not exist")
-        if out.is_dir():
-            raise CliError(f"cannot write {out}: it is a folder")
+        check_writable(out)
         seen.append(out)
 
 

@@ -5,7 +5,7 @@ mesh and the curves, runs :class:`heatcore.SignedHeatSolver` and writes the
 signed field as ``heatcore distance`` writes a distance: ``.ply`` (the field as
 vertex quality, a diverging colormap as vertex colors, the curves' vertices as
 the saved selection), ``.npy`` or ``.csv``; ``--png`` draws it, and
-``--isolines-out PATH N`` writes its zero set and ``N`` levels on each side as
+``--isolines-out PATH [N]`` writes its zero set and ``N`` levels on each side as
 OBJ polylines.
 
 A curve file has one surface point per line, in order: a vertex index
@@ -42,6 +42,7 @@ import numpy as np
 from ..errors import InvalidMeshError
 from ..io.curves import curve_formats_help
 from .arguments import (
+    PathAndCount,
     add_common_options,
     add_output_options,
     add_solver_options,
@@ -140,8 +141,9 @@ def signed_arguments(p):
                         ".npy or .csv (index,value); repeat for several")
     add_output_options(p, png_help=f"draw the signed field into a PNG: blue to red, a line at 0 and at --isolines "
                                    f"levels on each side (default {SIGNED_ISOLINES})", colormap=False)
-    p.add_argument("--isolines-out", nargs=2, default=None, metavar=("PATH", "N"),
-                   help="write the zero set and N levels on each side as polylines: " + curve_formats_help())
+    p.add_argument("--isolines-out", action=PathAndCount, minimum=0, default=None,
+                   help="write the zero set and N levels on each side as polylines (N defaults to --isolines, "
+                        f"else {SIGNED_ISOLINES}: the PNG's lines): " + curve_formats_help())
     p.add_argument("--overwrite", action="store_true", help="allow an output to replace the mesh file")
     add_solver_options(p, front_end="signed heat")
     add_common_options(p)
@@ -170,7 +172,7 @@ def run_signed(args):
     curves_out, count = _isolines_out(args)
     if not args.output and args.png is None and curves_out is None:
         raise UsageError("nothing to write: give -o/--output FILE (.ply, .npy, .csv), --png PATH "
-                         "and/or --isolines-out PATH N")
+                         "and/or --isolines-out PATH [N]")
     if not args.curve and not args.unsigned_curve:
         raise UsageError("no curve: give --curve FILE (signed) and/or --unsigned-curve FILE")
     inputs = [args.mesh, *args.curve, *args.unsigned_curve]
@@ -201,13 +203,9 @@ def _isolines_out(args):
     if args.isolines_out is None:
         return None, 0
     path, count = args.isolines_out
-    try:
-        count = int(count)
-    except ValueError:
-        count = -1
-    if count < 0:
-        raise UsageError(f"--isolines-out PATH N: N is the number of levels on each side (>= 0), got {args.isolines_out[1]!r}")
-    return Path(path), count
+    if count is None:  # the PNG's lines
+        count = SIGNED_ISOLINES if args.isolines is None else args.isolines
+    return path, count
 
 
 def _write(args, mesh, phi, marked, curves_out, count):

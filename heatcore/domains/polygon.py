@@ -89,7 +89,7 @@ from .polygon_triangulate import (  # noqa: F401
 from .refine import unique_edges
 from .sources import edge_list, index_list
 from .triangle import THIN_TRIANGLE_SLACK
-from .validate import vertex_array
+from .validate import one_based_hint, vertex_array
 
 
 def polygon_arrays(polygons, n_vertices):
@@ -153,7 +153,7 @@ def polygon_arrays(polygons, n_vertices):
         poly = int(np.searchsorted(offsets, pos, side="right") - 1)
         raise InvalidMeshError(
             f"polygon {poly} references vertex {int(indices[pos])} but the mesh has {n_vertices} vertices "
-            f"(valid indices are 0..{n_vertices - 1})"
+            f"(valid indices are 0..{n_vertices - 1}){one_based_hint(indices, n_vertices)}"
         )
     return offsets, indices.astype(np.int64)
 

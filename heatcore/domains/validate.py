@@ -56,6 +56,36 @@ def vertex_array(V, name="V"):
     return V
 
 
+def one_based_hint(indices, n_vertices):
+    """``"; the indices look 1-based: ..."`` when they run from 1 to ``n_vertices``, else ``""``.
+
+    Appended to an out-of-range message: a 1-based face list (as OBJ files
+    store it) has no index 0 and reaches exactly the vertex count.
+
+    Parameters
+    ----------
+    indices : array of int
+        Every vertex index of the faces.
+    n_vertices : int
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> one_based_hint(np.array([1, 2, 3, 3, 4]), 4)
+    '; the indices look 1-based (they run from 1 to 4): subtract 1, heatcore counts vertices from 0'
+    >>> one_based_hint(np.array([0, 2, 5]), 4)
+    ''
+    """
+    indices = np.asarray(indices)
+    if indices.size and indices.min() == 1 and indices.max() == n_vertices:
+        return (f"; the indices look 1-based (they run from 1 to {n_vertices}): subtract 1, "
+                "heatcore counts vertices from 0")
+    return ""
+
+
 def index_array(A, n_vertices, columns, element="face", name="F"):
     """Element indices as an ``(m, columns)`` int64 array, each in ``[0, n_vertices)``.
 
@@ -87,7 +117,7 @@ def index_array(A, n_vertices, columns, element="face", name="F"):
         row, col = np.argwhere(bad)[0]
         raise InvalidMeshError(
             f"{element} {row} references vertex {int(A[row, col])} but the mesh has {n_vertices} vertices "
-            f"(valid indices are 0..{n_vertices - 1})"
+            f"(valid indices are 0..{n_vertices - 1}){one_based_hint(A, n_vertices)}"
         )
     return A.astype(np.int64)
 

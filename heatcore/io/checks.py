@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..domains.validate import one_based_hint
 from ..errors import InvalidMeshError
 from .objcheck import FileScan, scan_obj
 from .plycheck import check_ply_body
@@ -216,6 +217,7 @@ def _check_off_faces(data, faces, n_vertices, where):
                      ((index < 0) | (index >= n_vertices), f"is out of range (the file has {n_vertices} vertices)")):
         if bad.any():
             k = int(np.flatnonzero(bad)[0])
+            hint = one_based_hint(index, n_vertices) if why.startswith("is out") else ""
             raise InvalidMeshError(f"{where}: line {faces.number[face[k]]}: face {face[k]} references vertex "
-                                   f"{index[k]:g}, which {why}")
+                                   f"{index[k]:g}, which {why}{hint}")
     return (np.r_[0, np.cumsum(count)], index.astype(np.int64)) if count.max() > 3 else None

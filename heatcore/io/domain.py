@@ -174,10 +174,10 @@ def read_domain(path, kind="auto"):
     >>> tmp.cleanup()
     """
     kind = check("domain", kind)
-    from .mesh import check_not_empty
+    from .files import check_input_file
 
     path = Path(path)
-    check_not_empty(path)
+    check_input_file(path)
     suffix = path.suffix.lower()
     if suffix == ".ply":  # every reader below hangs on a PLY header without end_header
         from .ply import read_header

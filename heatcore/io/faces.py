@@ -29,6 +29,7 @@ import numpy as np
 
 from ..domains.polygon_shape import fan_triangulate
 from ..domains.polygon_triangulate import triangulate_polygons
+from ..domains.validate import one_based_hint
 from ..errors import InvalidMeshError
 
 #: A fan triangle whose area along its polygon's normal is at most this fraction of the polygon's area
@@ -78,7 +79,7 @@ def triangulate_faces(V, offsets, corners, where="cannot read mesh file"):
         k = int(np.flatnonzero(bad)[0])
         face = int(np.searchsorted(offsets, k, side="right") - 1)
         raise InvalidMeshError(f"{where}: face {face} references vertex {corners[k]} but the file has "
-                               f"{len(V)} vertices")
+                               f"{len(V)} vertices{one_based_hint(corners, len(V))}")
     V = np.asarray(V, dtype=float)
     triangles, polygon = fan_triangulate(offsets, corners)
     chosen = np.flatnonzero(folded_fans(V, triangles, polygon))

@@ -29,38 +29,12 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import MAX_DETAIL, InvalidMeshError, NoFacesError, short  # noqa: F401 (short, MAX_DETAIL: kept importable here)
+from .files import check_input_file, is_text_mesh, utf8_text
 
 #: MeshLab (VCG) stores the selection in bit 5 of the per-vertex ``flags`` PLY property.
 MESHLAB_SELECTED_FLAG = 0x20
 
 TRIMESH_SUFFIXES = {".obj", ".off", ".stl", ".glb", ".gltf"}
-
-
-def check_not_empty(path):
-    """Raise :class:`InvalidMeshError` when ``path`` is missing or holds 0 bytes.
-
-    Parameters
-    ----------
-    path : str or path-like
-
-    Raises
-    ------
-    InvalidMeshError
-        No such file, or an empty one.
-
-    Examples
-    --------
-    >>> check_not_empty(demo_mesh_path())
-    >>> check_not_empty("no/such/file.obj")
-    Traceback (most recent call last):
-    ...
-    heatcore.errors.InvalidMeshError: mesh file not found: no/such/file.obj
-    """
-    path = Path(path)
-    if not path.is_file():
-        raise InvalidMeshError(f"mesh file not found: {path}")
-    if path.stat().st_size == 0:
-        raise InvalidMeshError(f"{path} is empty (0 bytes)")
 
 
 @dataclass
@@ -157,7 +131,7 @@ def read_mesh(path):
     from .checks import scan_mesh_file
 
     path = Path(path)
-    check_not_empty(path)
+    check_input_file(path)
     suffix = path.suffix.lower()
     try:
         if suffix in TRIMESH_SUFFIXES:
@@ -183,6 +157,8 @@ def _read_trimesh(path, scan):
         return SurfaceMesh(scan.vertices, triangulate_faces(scan.vertices, *scan.polygons,
                                                             f"cannot read mesh file {path}"))
     text = scan.text
+    if is_text_mesh(path):  # a Latin-1 byte must not stop trimesh (it would ask charset_normalizer)
+        text = utf8_text(text if text is not None else path.read_bytes())
     if scan.materials:  # trimesh splits an OBJ at each usemtl, each part with its own copy of the vertices
         text = (text if text is not None else path.read_bytes()).replace(b"usemtl", b"usemt_")
     source = {"file_obj": str(path)} if text is None else {
@@ -202,8 +178,14 @@ def _read_ply(path):
 
     header = _read_ply_header(path)
     check_ply_size(path, header)  # before the readers: meshio would walk a 10**9-face header for minutes
-    mesh = _read_ply_data(path, header)
-    check_ply_body(path, header)  # after them, so that a truncated file keeps the reader's own message
+    try:
+        mesh = _read_ply_data(path, header)
+    except NoFacesError:
+        raise
+    except InvalidMeshError:  # a reader's parse error: a header that lies is said in our words first
+        check_ply_body(path, header)
+        raise
+    check_ply_body(path, header)
     return mesh
 
 

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InvalidMeshError, short
+from .files import check_input_file
 from .mesh import meshio_read
 
 #: Suffixes read as XYZ text.
@@ -76,13 +77,12 @@ def read_point_cloud(path):
     (2930, 3)
     """
     path = Path(path)
-    if not path.is_file():
-        raise InvalidMeshError(f"point cloud file not found: {path}")
     suffix = path.suffix.lower()
     if suffix not in POINT_CLOUD_SUFFIXES:
         raise InvalidMeshError(
             f"cannot read {path}: point clouds are read from {', '.join(sorted(POINT_CLOUD_SUFFIXES))} files"
         )
+    check_input_file(path, "point cloud file")
     try:
         if suffix in (".ply", ".obj"):  # a file whose data does not match its header or faces is an error
             from .checks import check_mesh_file
@@ -135,18 +135,43 @@ def _read_obj(path):
     return PointCloudFile(_three_columns(points, path), normals)
 
 
+#: What a text point cloud holds, said when one cannot be read.
+XYZ_FORMAT = (f"{'/'.join(sorted(XYZ_SUFFIXES))} point clouds hold 3 (x y z) or 6 (x y z nx ny nz) numbers per line, "
+              "separated by spaces or commas, with '#' or '//' comments and no header line; point clouds are also "
+              "read from .ply and .obj files")
+
+
 def _read_xyz(path):
-    text = path.read_text()
+    text = path.read_bytes().decode("latin-1")
     delimiter = "," if "," in text.split("\n", 1)[0] else None
-    table = np.loadtxt(path, delimiter=delimiter, ndmin=2, comments=("#", "//"))
+    try:
+        table = np.loadtxt(path, delimiter=delimiter, ndmin=2, comments=("#", "//"), encoding="latin-1")
+    except ValueError:
+        why = _first_bad_line(text, delimiter)
+        raise InvalidMeshError(f"cannot read point cloud file {path}: {why}; {XYZ_FORMAT}") from None
     if table.size == 0:
         return PointCloudFile(np.zeros((0, 3)))
     if table.shape[1] not in (3, 6):
         raise InvalidMeshError(
-            f"{path} has {table.shape[1]} columns per line: expected 3 (x y z) or 6 (x y z nx ny nz)"
+            f"{path} has {table.shape[1]} columns per line: {XYZ_FORMAT}"
         )
     normals = table[:, 3:6] if table.shape[1] == 6 else None
     return PointCloudFile(table[:, :3].astype(float), normals)
+
+
+def _first_bad_line(text, delimiter):
+    """Where and why ``text`` is not a table of numbers: ``"line 3 ('x y z') is not numbers"``."""
+    width = None
+    for number, line in enumerate(text.splitlines(), 1):
+        tokens = [t for t in line.split("#")[0].split("//")[0].split(delimiter) if t.strip()]
+        try:
+            [float(t) for t in tokens]
+        except ValueError:
+            return f"line {number} ({short(line, 60)!r}) is not numbers"
+        if tokens and width is not None and len(tokens) != width:
+            return f"line {number} has {len(tokens)} numbers, the lines before it {width}"
+        width = width or len(tokens) or None
+    return "its lines are not a table of numbers"
 
 
 def _three_columns(points, path):

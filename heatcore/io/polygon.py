@@ -37,6 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InvalidMeshError, short
+from .files import check_input_file
 from .mesh import meshio_read
 
 
@@ -108,8 +109,7 @@ def read_polygon_mesh(path):
     from .checks import check_mesh_file
 
     path = Path(path)
-    if not path.is_file():
-        raise InvalidMeshError(f"mesh file not found: {path}")
+    check_input_file(path)
     text = check_mesh_file(path)  # before the readers: both hang on a PLY header without end_header
     if text is not None:  # an OBJ with relative indices: the readers get them made absolute
         import tempfile

@@ -25,6 +25,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import HeatcoreWarning, InvalidMeshError, InvalidOptionError
+from .checks import check_mesh_file
+from .files import check_input_file
 from .mesh import meshio_read
 
 #: Suffixes whose meshio writer keeps point data, and the meshio format used.
@@ -71,9 +73,10 @@ def read_tet_mesh(path):
     """
 
     path = Path(path)
-    if not path.is_file():
-        raise InvalidMeshError(f"mesh file not found: {path}")
+    check_input_file(path, "tet mesh file")
     suffix = path.suffix.lower()
+    if suffix in (".ply", ".off", ".obj"):  # a header that lies, in our words before meshio's numpy errors
+        check_mesh_file(path, "tet mesh file")
     fmt = "gmsh" if suffix == ".msh" else None  # meshio would try ANSYS first
     mesh = meshio_read(path, "tet mesh file", file_format=fmt)  # meshio's exits become InvalidMeshError
     blocks = [b for b in mesh.cells if b.type in TET_CELL_TYPES]
