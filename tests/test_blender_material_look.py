@@ -22,6 +22,7 @@ What is checked, and how (real ``bpy``):
 
 from types import SimpleNamespace
 
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bpy
 import numpy as np
 import pytest
