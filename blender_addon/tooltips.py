@@ -17,6 +17,14 @@ Examples
 'Smooth: the heat method'
 """
 
+import importlib
+
+from ._heatcore import heatcore
+
+#: What ``accuracy="high"`` costs in Blender (the extension does not bundle numba), declared once in heatcore.
+_HIGH_COST = "-".join(f"{x:g}" for x in importlib.import_module(heatcore.__name__ + ".options")
+                      .HIGH_ACCURACY_COST["vectorized"])
+
 #: Words of other front ends or of heatcore's internals, which no tooltip of the add-on holds.
 FOREIGN_WORDS = ("png", "picture", "numba", "extra", "heatcore.", "pip ", "command line", "--")
 
@@ -28,7 +36,7 @@ OPTION_HELP = {
     "boundary": "How the heat behaves at open edges of the mesh (holes, borders): Robin, the mean of the two "
                 "others, is recommended",
     "accuracy": "Smooth: the heat method (about 1-2% error, fastest); High: a second, eikonal pass (about 0.1-0.3% "
-                "error; the distance takes 2 to 40 times as long to compute)",
+                f"error; a distance takes {_HIGH_COST} times as long to compute)",
     "backend": "Library that factors the solver's matrices: Auto picks the fastest one installed for the mesh "
                "size; the results are the same",
     "robust": "Intrinsic Delaunay operators: accurate on thin or badly shaped triangles; off: plain cotan "

@@ -38,7 +38,10 @@ contents, sizes, slim, repacked = (_load(n) for n in ("extension_contents", "ext
 
 
 @pytest.mark.parametrize("module", [build, contents, sizes, slim, repacked], ids=lambda m: m.__name__)
-def test_doctests(module):
+def test_doctests(module, monkeypatch):
+    # doctest keeps the objects whose inspect.getmodule is this module: another test may have loaded the script
+    # again under the same name (tests/test_blender.py does), so this instance is made the registered one
+    monkeypatch.setitem(sys.modules, module.__name__, module)
     result = doctest.testmod(module)
     assert result.attempted > 0 and result.failed == 0
 

@@ -14,6 +14,8 @@ import numpy as np
 import pytest
 from test_blender import addon, attribute, empty_scene, ico_sphere, run, select_only  # noqa: F401 (fixtures)
 
+import heatcore as hc
+
 #: The add-on's operators (``bpy.ops.mesh.<name>``) that every test here knows of; the tooltip test walks them all.
 OPERATORS = ("heat_geodesic_distance", "heat_geodesic_isoline_curves", "heat_geodesic_probe", "heat_geodesic_path",
              "heat_geodesic_uv_map", "heat_geodesic_select_within")
@@ -43,6 +45,13 @@ def test_every_property_has_a_tooltip_for_a_blender_user(addon):
         for text in texts:
             assert text[:1].isupper() or not text[:1].isalpha(), f"{where}: {text!r} starts lower-case"
             assert not any(word in text.lower() for word in foreign), f"{where}: {text!r} names another front end"
+
+
+def test_accuracy_tooltip_states_the_cost_heatcore_measured_without_numba(addon):
+    """The extension bundles no numba: High costs the vectorized pass's figure, declared once in heatcore."""
+    slow = "-".join(f"{x:g}" for x in hc.options.HIGH_ACCURACY_COST["vectorized"])
+    description = bpy.context.scene.heat_geodesic.bl_rna.properties["accuracy"].description
+    assert f"{slow} times as long" in description, description
 
 
 def test_spacing_tooltip_is_the_spacing_the_material_uses(addon):
