@@ -32,6 +32,7 @@ from pathlib import Path
 import bpy
 import numpy as np
 from blender_addon_loader import load_addon
+from blender_render_scene import camera_looking_at, render_still
 
 REPO = Path(__file__).resolve().parents[1]
 IMAGES = REPO / "docs" / "images"
@@ -126,29 +127,8 @@ def render(objects, direction, path, size):
     center = 0.5 * (corners.min(axis=0) + corners.max(axis=0))
     extent = float(np.linalg.norm(corners.max(axis=0) - corners.min(axis=0)))
     direction = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
-    cam = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
-    bpy.context.collection.objects.link(cam)
-    cam.location = center + 2.0 * extent * direction
-    look = center - np.array(cam.location)
-    cam.rotation_euler = (math.atan2(math.hypot(look[0], look[1]), -look[2]), 0.0,
-                          math.atan2(look[1], look[0]) - math.pi / 2)
-    scene = bpy.context.scene
-    scene.camera = cam
-    sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
-    sun.data.energy = 3.0
-    sun.rotation_euler = (math.radians(40), math.radians(10), math.radians(30))
-    bpy.context.collection.objects.link(sun)
-    world = bpy.data.worlds.new("world")
-    world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.85, 0.85, 0.85, 1.0)
-    scene.world = world
-    scene.render.engine = "BLENDER_EEVEE"
-    scene.eevee.taa_render_samples = 16
-    scene.render.resolution_x, scene.render.resolution_y = size
-    scene.view_settings.view_transform = "Standard"  # the colormap's colors as they are
-    scene.render.image_settings.color_mode = "RGB"
-    scene.render.filepath = str(path)
-    bpy.ops.render.render(write_still=True)
+    camera_looking_at(center + 2.0 * extent * direction, center)
+    render_still(path, size)
     print(f"wrote {path}")
 
 

@@ -18,12 +18,12 @@ Examples
 """
 
 import argparse
-import math
 from pathlib import Path
 
 import bpy
 import numpy as np
 from blender_addon_loader import load_addon
+from blender_render_scene import camera_looking_at, render_still
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -64,30 +64,9 @@ def main(argv=None):
     displace.vertex_group, displace.direction, displace.mid_level, displace.strength = "geodesic_weight", "Z", 0.0, 0.6
     bpy.ops.object.shade_smooth()
 
-    cam = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
-    bpy.context.collection.objects.link(cam)
-    cam.location = (2.6, -3.9, 3.1)
-    look = -np.array(cam.location) + [0.0, 0.1, 0.1]
-    cam.rotation_euler = (math.atan2(math.hypot(look[0], look[1]), -look[2]), 0.0,
-                          math.atan2(look[1], look[0]) - math.pi / 2)
-    scene = bpy.context.scene
-    scene.camera = cam
-    sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
-    sun.data.energy = 3.0
-    sun.rotation_euler = (math.radians(35), math.radians(15), math.radians(20))
-    bpy.context.collection.objects.link(sun)
-    world = bpy.data.worlds.new("world")
-    world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.85, 0.85, 0.85, 1.0)
-    scene.world = world
-    scene.render.engine = "BLENDER_EEVEE"
-    scene.eevee.taa_render_samples = 16
-    scene.render.resolution_x, scene.render.resolution_y = args.size
-    scene.view_settings.view_transform = "Standard"  # the colormap's colors as they are
-    scene.render.image_settings.color_mode = "RGB"
-    scene.render.filepath = str(Path(args.output).resolve())
-    bpy.ops.render.render(write_still=True)
-    print(f"wrote {scene.render.filepath}: max distance {result.max_distance:.3f}")
+    camera_looking_at((2.6, -3.9, 3.1), (0.0, 0.1, 0.1))
+    render_still(Path(args.output).resolve(), args.size, sun_degrees=(35, 15, 20))
+    print(f"wrote {args.output}: max distance {result.max_distance:.3f}")
     addon.unregister()
 
 
