@@ -160,10 +160,11 @@ def test_self_crossing_polygons_are_named():
     with pytest.raises(hc.InvalidMeshError, match=r"2 polygon\(s\) cross themselves.*: 0 \(sides 0 and 2\), 1 "):
         PolygonMesh(V, P)
     with pytest.warns(hc.HeatcoreWarning, match="split into triangles"):
-        mesh = PolygonMesh(V, P, split_crossing=True)
+        mesh = PolygonMesh(V, P, split_crossing=True, virtual=True)
     assert mesh.n_virtual == 1  # the one simple quad keeps its virtual vertex
-    simple = PolygonMesh(V, [[0, 2, 1, 3]])  # the same four corners in their proper order
+    simple = PolygonMesh(V, [[0, 2, 1, 3]], virtual=True)  # the same four corners in their proper order
     assert simple.n_virtual == 1
+    assert PolygonMesh(V, [[0, 2, 1, 3]]).n_triangulated == 1  # by default: its triangles
 
 
 def test_welding_reports_every_input_vertex(spot):
