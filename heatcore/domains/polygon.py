@@ -5,10 +5,11 @@ triangulation of it (:func:`triangulate_polygons`), and each part is built
 as :class:`~heatcore.TriangleMesh` builds those triangles: the polygons keep
 their role as sources (``region=``) and their edges as edges. That is never
 less accurate than the triangles, which virtual refinement cannot promise:
-measured on 18 polygon meshes (docs/polygon.md), it is 0.4 to 0.9 times the
-triangulation's error on regular quad and hexagon grids, but up to 1.75
-times on jittered grids, Catmull-Clark spheres, suzanne and polygons around
-holes.
+measured on 20 polygon meshes (docs/polygon.md), once refined it is 0.3 to
+0.9 times the triangulation's error on dissolved, regular and jittered grids
+and Catmull-Clark surfaces, but 1.1 to 1.8 times on a plate with holes,
+stretched hexagons, suzanne, a cylinder and a smoothly subdivided cube, and
+up to 3.2 times unrefined.
 
 With ``virtual=True``, "Polygon Laplacian Made Simple" (Bunge, Herholz,
 Kazhdan, Botsch 2020) refines every polygon with ``k >= 4`` corners
@@ -252,10 +253,9 @@ class PolygonMesh(MeshDomain):
         2020, the module docstring); concave polygons, those with a nearly
         straight corner (what Blender's Dissolve Edges leaves) and thin ones
         are triangulated still (``n_triangulated``). More accurate than the
-        triangulation on regular quad and hexagon grids (0.4 to 0.9 times its
-        error), less accurate on jittered grids, Catmull-Clark spheres,
-        suzanne and polygons around holes (up to 1.75 times;
-        docs/polygon.md), hence off. The default, ``False``, triangulates
+        triangulation on many meshes once refined (0.3 to 0.9 times its
+        error), less accurate on others (up to 1.8 times refined, 3.2
+        unrefined; docs/polygon.md), hence off. The default, ``False``, triangulates
         every polygon (:func:`triangulate_polygons`): each part is then built
         as :class:`~heatcore.TriangleMesh` builds that triangulation.
     delaunay : bool, default False

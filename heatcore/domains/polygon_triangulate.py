@@ -16,8 +16,8 @@ multiplies (a UV sphere's rows next to a pole: 3-5.7 times the triangles'
 error from the pole, :data:`THIN_SIDE_RATIO`). An n-gon far from a plane spans
 no definite surface (:data:`NONPLANAR_NGON`). These kinds are triangulated
 here, and so are whole the parts left mostly triangles (:data:`MOSTLY_TRIANGLES`),
-and every polygon a caller does not keep (``PolygonMesh`` keeps polygons whole
-only in the parts it refines); the other polygons keep virtual refinement,
+and every polygon a caller does not keep (``PolygonMesh`` keeps none by
+default, and the others with ``virtual=True``); the other polygons keep virtual refinement,
 which is the more accurate operator on them (docs/polygon.md: hexagons 0.60%
 against 1.35% for their triangles).
 
