@@ -43,8 +43,8 @@ from concave_meshes import dissolved_grid  # noqa: E402  (Blender's Dissolve Edg
 def folded_polygon_mesh(V, P):
     """Virtual refinement on every polygon, as before the concave ones were triangulated."""
     kept = polygon_module.triangulate_where_needed
-    polygon_module.triangulate_where_needed = lambda X, offsets, corners, origin, keep=None: (offsets, corners,
-                                                                                              origin, 0)
+    polygon_module.triangulate_where_needed = lambda X, offsets, corners, origin, everywhere=False: (
+        offsets, corners, origin, 0)
     try:
         return hc.PolygonMesh(V, P, virtual=True)
     finally:

@@ -364,7 +364,7 @@ class PolygonMesh(MeshDomain):
         self.vertex_map = np.full(n, -1, dtype=np.int64)
         self.vertex_map[used] = np.arange(used.size)
         offsets, indices, self._origin, self.n_triangulated = triangulate_where_needed(
-            self.vertices, offsets, indices, origin, keep=None if virtual else np.zeros(offsets.size - 1, bool)
+            self.vertices, offsets, indices, origin, everywhere=not virtual
         )
         self._spanned = (offsets, indices)
         self.delaunay = bool(delaunay)

@@ -16,8 +16,8 @@ multiplies (a UV sphere's rows next to a pole: 3-5.7 times the triangles'
 error from the pole, :data:`THIN_SIDE_RATIO`). An n-gon far from a plane spans
 no definite surface (:data:`NONPLANAR_NGON`). These kinds are triangulated
 here, and so are whole the parts left mostly triangles (:data:`MOSTLY_TRIANGLES`),
-and every polygon a caller does not keep (``PolygonMesh`` keeps none by
-default, and the others with ``virtual=True``); the other polygons keep virtual refinement,
+and every polygon where the caller asks (``PolygonMesh`` by default, without
+``virtual=True``); the other polygons keep virtual refinement,
 which is the more accurate operator on them (docs/polygon.md: hexagons 0.60%
 against 1.35% for their triangles).
 
@@ -290,8 +290,8 @@ def mostly_triangles(X, offsets, corners, chosen):
     return (triangles >= MOSTLY_TRIANGLES * np.bincount(part, weights=area, minlength=count))[part] & (sizes > 3)
 
 
-def triangulate_where_needed(X, offsets, corners, origin, keep=None):
-    """Polygons virtual refinement spans badly (:func:`polygons_to_triangulate`), or not kept, replaced by triangles.
+def triangulate_where_needed(X, offsets, corners, origin, everywhere=False):
+    """Polygons virtual refinement spans badly (:func:`polygons_to_triangulate`), or all, replaced by their triangles.
 
     Parameters
     ----------
@@ -299,8 +299,8 @@ def triangulate_where_needed(X, offsets, corners, origin, keep=None):
     offsets, corners : int arrays
     origin : (m,) int array
         What each polygon comes from (carried to its triangles).
-    keep : (m,) bool array, optional
-        The polygons that may stay whole (by default all); the others are triangulated.
+    everywhere : bool, default False
+        Triangulate every polygon (what ``PolygonMesh`` does by default), whatever its shape.
 
     Returns
     -------
@@ -314,13 +314,10 @@ def triangulate_where_needed(X, offsets, corners, origin, keep=None):
     >>> np.diff(o).tolist(), origin.tolist(), n
     ([3, 3, 3, 3, 3], [5, 4, 4, 4, 4], 1)
     """
-    big = np.diff(offsets) > 3
-    if keep is not None and not keep[big].any():
-        concave = big  # every polygon triangulated: no shape to check
+    if everywhere:
+        concave = np.diff(offsets) > 3  # no shape to check
     else:
         concave = polygons_to_triangulate(X, offsets, corners)
-        if keep is not None:
-            concave |= ~keep & big
         concave |= mostly_triangles(X, offsets, corners, concave)
     if not concave.any():
         return offsets, corners, origin, 0
