@@ -5,10 +5,13 @@ writes use ``foreach_get``/``foreach_set`` on contiguous arrays, through the
 mesh's attributes where Blender stores the data as one (positions, face
 corners, the selection: a plain copy, where ``mesh.vertices`` goes element by
 element); there is no Python loop over vertices, except for reading
-vertex-group membership, which Blender exposes only per vertex. Vertex-group
+vertex-group membership, which Blender exposes only per vertex, and for
+writes in Edit Mode (:mod:`edit_layers`). Vertex-group
 weights are written through a temporary attribute that Blender's own
 *Convert Attribute* turns into the group (:func:`write_vertex_group`).
-Writes go to the mesh datablock in Object Mode (see :func:`object_mode`).
+Writes go to the mesh datablock in Object Mode, and in Edit Mode to the
+edit mesh's layers (:mod:`edit_layers`: one loop over its vertices, cheaper
+than leaving Edit Mode and coming back); :func:`writing` frames a batch of them.
 
 Examples
 --------
@@ -21,6 +24,8 @@ from contextlib import contextmanager
 
 import bpy
 import numpy as np
+
+from . import edit_layers
 
 #: Value written to the distance attribute at vertices no source reaches
 #: (another connected piece of the mesh, or a loose vertex).
@@ -233,7 +238,10 @@ def _attribute(mesh, name, domain, data_type):
 def write_float_attribute(mesh, name, values):
     """Write one float per vertex into the POINT attribute ``name`` (created if needed)."""
     attr = _attribute(mesh, name, "POINT", "FLOAT")
-    attr.data.foreach_set("value", np.ascontiguousarray(values, dtype=np.float32))
+    if mesh.is_editmode:
+        edit_layers.write_vertex_floats(mesh, name, values)
+    else:
+        attr.data.foreach_set("value", np.ascontiguousarray(values, dtype=np.float32))
     return attr
 
 
@@ -258,7 +266,10 @@ def write_color_attribute(mesh, name, rgb):
     attr = _attribute(mesh, name, "POINT", "FLOAT_COLOR")
     rgba = np.ones((len(rgb), 4), dtype=np.float32)
     rgba[:, :3] = srgb_to_linear(rgb)
-    attr.data.foreach_set("color", rgba.ravel())
+    if mesh.is_editmode:
+        edit_layers.write_vertex_colors(mesh, name, rgba)
+    else:
+        attr.data.foreach_set("color", rgba.ravel())
     colors = mesh.color_attributes
     colors.active_color = colors[name]
     colors.render_color_index = colors.active_color_index
@@ -280,7 +291,8 @@ def write_vertex_group(obj, name, weights):
     mode ``VERTEX_GROUP``) turns into the group in one pass; it leaves out
     vertices of weight 0, which one more ``add`` call puts in. The mesh's active
     attribute is restored. Where that operator cannot run, each distinct
-    weight gets one ``add`` call (correct, slow).
+    weight gets one ``add`` call (correct, slow). In Edit Mode the weights go
+    into the edit mesh's deform layer (:func:`edit_layers.write_group_weights`).
 
     Parameters
     ----------
@@ -290,13 +302,25 @@ def write_vertex_group(obj, name, weights):
     --------
     >>> group = write_vertex_group(obj, "geodesic_weight", 1 - d / d.max())  # doctest: +SKIP
     """
-    mesh = obj.data
     w = np.ascontiguousarray(weights, dtype=np.float32)
     old = obj.vertex_groups.get(name)
     locked = old is not None and old.lock_weight
-    active = mesh.attributes.active.name if mesh.attributes.active is not None else None
     if old is not None:
         obj.vertex_groups.remove(old)
+    if obj.data.is_editmode:
+        group = obj.vertex_groups.new(name=name)
+        edit_layers.write_group_weights(obj.data, group.index, w)
+    else:
+        group = _converted_group(obj, name, w)
+    group.lock_weight = locked
+    obj.vertex_groups.active_index = group.index
+    return group
+
+
+def _converted_group(obj, name, w):
+    """A new vertex group ``name`` holding every vertex with its weight ``w`` (Object Mode; see :func:`write_vertex_group`)."""
+    mesh = obj.data
+    active = mesh.attributes.active.name if mesh.attributes.active is not None else None
     attr = mesh.attributes.new(name=name, type="FLOAT", domain="POINT")
     converted = False
     if attr is not None:
@@ -312,8 +336,6 @@ def write_vertex_group(obj, name, weights):
     zero = np.flatnonzero(w == 0)
     if zero.size:
         group.add(zero.tolist(), 0.0, "REPLACE")
-    group.lock_weight = locked
-    obj.vertex_groups.active_index = group.index
     if active is not None and mesh.attributes.get(active) is not None:
         mesh.attributes.active = mesh.attributes[active]
     else:
@@ -349,6 +371,28 @@ def read_float_attribute(mesh, name):
     out = np.empty(len(attr.data), dtype=np.float32)
     attr.data.foreach_get("value", out)
     return out.astype(np.float64)
+
+
+@contextmanager
+def writing(obj):
+    """Run a block of writes to ``obj``'s mesh, then tell Blender its data changed.
+
+    In Edit Mode the writers go to the edit mesh (:mod:`edit_layers`), which
+    stays as it is; in any other mode the block runs in Object Mode
+    (:func:`object_mode`).
+
+    Examples
+    --------
+    >>> with writing(obj):                                         # doctest: +SKIP
+    ...     write_float_attribute(obj.data, "geodesic_distance", d)
+    """
+    if obj.data.is_editmode:
+        yield
+        edit_layers.finish(obj.data)
+        return
+    with object_mode(obj):
+        yield
+        obj.data.update()
 
 
 @contextmanager

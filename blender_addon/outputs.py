@@ -113,7 +113,7 @@ def write_outputs(obj, d, space, *, attribute, color_attribute, colormap, isolin
     finite = np.isfinite(d)
     dmax = float(d[finite].max()) if finite.any() else 0.0
     scale = 1.0 / dmax if (normalize and dmax > 0) else 1.0
-    with adapters.object_mode(obj):
+    with adapters.writing(obj):
         if attribute is not None:
             adapters.write_float_attribute(mesh, attribute, np.where(finite, d * scale, adapters.UNREACHABLE_VALUE))
         if color_attribute is not None:
@@ -123,7 +123,6 @@ def write_outputs(obj, d, space, *, attribute, color_attribute, colormap, isolin
         if weight_group:
             w = weights.distance_weights(d, radius=weight_radius, falloff=weight_falloff, invert=weight_invert)
             adapters.write_vertex_group(obj, weight_group, w)
-        mesh.update()
     if isoline_material:
         spacing = isoline_spacing or (dmax / (isolines + 1) if isolines else 0.0)
         show_isoline_material(obj, attribute, colormap=colormap, max_distance=dmax, spacing=spacing,

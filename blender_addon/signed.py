@@ -176,14 +176,13 @@ def signed_distance_from_edges(obj, edges=None, *, attribute=DEFAULT_SIGNED_ATTR
                                  key_options(settings, False), build)
     d = solver.distance([[int(v) for v in c] for c in curves])
     finite = np.isfinite(d)
-    with adapters.object_mode(obj):
+    with adapters.writing(obj):
         if attribute is not None:
             adapters.write_float_attribute(obj.data, attribute, np.where(finite, d, 0.0))
         if color_attribute is not None:
             adapters.write_color_attribute(obj.data, color_attribute, colormaps.colorize_signed(d, isolines=isolines))
         if weight_group:
             adapters.write_vertex_group(obj, weight_group, weights.signed_weights(d, weight_band))
-        obj.data.update()
     return SignedResult(distance=d, curves=len(curves), min_distance=float(d[finite].min()) if finite.any() else 0.0,
                         max_distance=float(d[finite].max()) if finite.any() else 0.0,
                         unreached=int((~finite).sum()), seconds=time.perf_counter() - start, cached=cached)

@@ -103,7 +103,7 @@ class Stages:
         self._wrap_mode_switch(addon.adapters)
 
     def _wrap_mode_switch(self, adapters):
-        """Time ``adapters.object_mode``'s switches to Object Mode and back (Edit Mode clicks)."""
+        """Time ``adapters.object_mode``'s switches to Object Mode and back (clicks in modes other than Object and Edit)."""
         inner = adapters.object_mode
 
         @contextlib.contextmanager
