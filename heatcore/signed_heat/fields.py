@@ -10,11 +10,12 @@ vertices' tangent basis (``operator_basis``), the vector heat flow
   flow is read on the intrinsic triangles (:mod:`~heatcore.signed_heat.face_field`)
   and the divergence is the heat method's, ``G^T (volumes * X)``.
 - :class:`CloudField`: a point cloud, with tangent planes from its oriented
-  normals, the connection Laplacian of its Laplacian's weights (each edge
-  turning a vector by the least rotation between the two normals), and the
-  divergence of the vertex vectors along the Laplacian's edges,
-  ``-Σ_j w_ij (X_i + X_j)/2 . (p_j - p_i)``: what the Laplacian of a function
-  with gradient ``X`` is.
+  normals and the connection Laplacian of its Laplacian's weights (each edge
+  turning a vector by the least rotation between the two normals); the flow
+  is read on the Laplacian's own (intrinsic) triangles as on a mesh: the mean
+  of the three corners' 3D vectors, laid out on the triangle as the gradient
+  operator lays it out, scaled to length 1, and the divergence is the heat
+  method's ``G^T (volumes * X)``.
 
 Examples
 --------
@@ -131,16 +132,28 @@ class CloudField:
         return self._factor.solve(rhs)
 
     def divergence(self, Y):
-        """``-Σ_j w_ij (X_i + X_j)/2 . (p_j - p_i)`` of the unit vectors ``X`` of ``Y`` (zero where ``Y`` is)."""
+        """``G^T (volumes * X)`` of the unit field ``X`` read from the vertex vectors ``Y`` on the triangles.
+
+        Each triangle's vector is the mean of its corners' 3D vectors, laid out
+        on the triangle by the gradient of the corners' positions (the layout
+        vector whose dot product with each side is the 3D vector's with that
+        side's chord), then scaled to length 1 (zero where it vanishes).
+
+        Measured on a Fibonacci sphere of 3000 points with points on its equator
+        (tests/test_signed_heat.py): 0.029% from the signed distance, where the
+        divergence of the vertex vectors along the Laplacian's edges,
+        ``-Σ_j w_ij (X_i + X_j)/2 . (p_j - p_i)``, normalized at the vertices, gave
+        0.058% (potpourri3d's: 0.035%); a disc of rings 0.024% instead of 0.027%.
+        """
         _, e1, e2 = self.operator_basis
-        size = np.abs(Y)
-        unit = np.where(size > 1e-300, Y / np.maximum(size, 1e-300), 0.0)
-        X = unit.real[:, None] * e1 + unit.imag[:, None] * e2
-        L = sp.coo_matrix(self.domain.operators.laplacian)
-        off = L.row != L.col
-        i, j, w = L.row[off], L.col[off], -L.data[off]
-        along = 0.5 * np.einsum("ij,ij->i", X[i] + X[j], self.positions[j] - self.positions[i])
-        return -np.bincount(i, weights=w * along, minlength=Y.size)
+        ops = self.domain.operators
+        corners = ops.elements
+        mean = (Y.real[:, None] * e1 + Y.imag[:, None] * e2)[corners].mean(axis=1)
+        layout = (ops.gradient @ self.positions).reshape(corners.shape[0], 2, 3)
+        X = np.einsum("fij,fj->fi", layout, mean)
+        size = np.linalg.norm(X, axis=1)
+        X = np.where(size[:, None] > 1e-300, X / np.maximum(size, 1e-300)[:, None], 0.0)
+        return ops.gradient.T @ (ops.volumes[:, None] * X).ravel()
 
     def _operator_points(self, points):
         from ..domains.sources import index_list
