@@ -38,6 +38,8 @@ from blender_addon_loader import load_addon
 
 #: Built-in meshes: name -> (label, maker).
 MESHES = {
+    "icosphere": ("icosphere, 3 subdivisions", lambda: _icosphere(3)),
+    "icosphere5": ("icosphere, 5 subdivisions", lambda: _icosphere(5)),
     "torus": ("torus 256 x 200 (quads)", lambda: _torus()),
     "suzanne5": ("Suzanne, subdivision level 5", lambda: _suzanne(5)),
 }
@@ -55,6 +57,11 @@ STAGES = [
     ("weights", "outputs.weights.distance_weights"),
     ("write weights", "adapters.write_vertex_group"),
 ]
+
+
+def _icosphere(subdivisions):
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=subdivisions)
+    return bpy.context.active_object
 
 
 def _torus():

@@ -412,7 +412,7 @@ def test_degenerate_polygons():
         (np.zeros((3, 3)), [[0, 1]], "no polygon has three distinct corners"),
         (np.zeros((3, 3)), [[0, 1, 1.5]], "integers"),
         (np.zeros((3, 3)), (np.array([0, 4]), np.array([0, 1, 2])), "offsets"),
-        (np.zeros((3, 3)), [[0, 1, 2]], "zero length"),
+        (np.zeros((3, 3)), [[0, 1, 2]], "no area"),  # built as its one triangle (TriangleMesh)
         ([[0, 0, 0], [1, 0, np.nan], [0, 1, 0]], [[0, 1, 2]], "NaN"),
         (np.zeros((3, 4)), [[0, 1, 2]], "shape"),
     ],
