@@ -5,8 +5,10 @@ built in a background thread (:class:`~.background.BackgroundBuild`) while a
 modal timer shows its stages (:class:`~.display.ProgressDisplay`): the header
 of the area it was started from says what runs and how far it is, the status
 bar that Esc cancels, the window manager's progress indicator follows, the
-UI stays usable, and Esc cancels (nothing is written). The query and the
-writes then run on the main thread, as one undo step. A second click while a
+UI stays usable, and Esc cancels (nothing is written). On a mesh small
+enough to be refined, the distance on the unrefined mesh is drawn at once
+meanwhile, never written (:mod:`.preview`). The query and the writes then
+run on the main thread, as one undo step. A second click while a
 build runs is refused with a message. A cached solver, ``execute`` (scripts,
 *Adjust Last Operation*) and background Blender (``bpy.app.background``) run
 synchronously, as :func:`~.api.compute_geodesic_distance` does.
@@ -25,6 +27,7 @@ from .api import compute_geodesic_distance
 from .background import CANCELLED, FAILED, RUNNING, BackgroundBuild, Busy
 from .display import ProgressDisplay
 from .legend import format_distance
+from .preview import PREVIEW_TITLE, Preview, wants_preview
 from .properties import GeodesicOptions
 from .redo import draw_run_options
 from .stages import BUILD_RANGE, build_solver, check_unchanged, finish_run, prepare_run
@@ -91,6 +94,11 @@ class ModalRun:
     display : ProgressDisplay or an object with ``progress(fraction, message)`` and ``end()``
     report : callable
         ``report(type, message)``, as ``Operator.report``.
+
+    Attributes
+    ----------
+    preview : Preview or None
+        The first answer drawn while the solver builds (:meth:`start` with the object), until the run ends.
     """
 
     def __init__(self, run, display, report):
@@ -101,11 +109,31 @@ class ModalRun:
         self.build = BackgroundBuild(lambda progress: build_solver(run, progress), label)
         self.finishing = False
         self.result = None  # the GeodesicResult once written
+        self.preview = None
 
-    def start(self):
-        """Start the worker (raises :class:`~.background.Busy` while another build runs)."""
-        self.build.start()
+    def start(self, obj=None):
+        """Start the worker (raises :class:`~.background.Busy` while another build runs).
+
+        Given the run's object, a run that :func:`~.preview.wants_preview` first draws the distance on the
+        unrefined mesh over it (:class:`~.preview.Preview`), taken down when the run ends.
+        """
+        if obj is not None and wants_preview(self.run):
+            try:
+                self.preview = Preview.show(obj, self.run)
+            except heatcore.HeatcoreError:  # the build says what is wrong with the mesh or the sources
+                self.preview = None
+        try:
+            self.build.start()
+        except Busy:
+            self.end()
+            raise
         self.display.progress(*self.build.progress())
+
+    def end(self):
+        """Take the display and the preview down (idempotent)."""
+        self.display.end()
+        if self.preview is not None:
+            self.preview.remove()
 
     def handle(self, context, event_type, event_value="NOTHING"):
         """Handle one event: the operator's ``modal`` result set.
@@ -140,13 +168,13 @@ class ModalRun:
                 self.report({"ERROR"}, str(exc) or type(exc).__name__)
                 return {"CANCELLED"}
         finally:
-            self.display.end()
+            self.end()
         return report_result(context, result, self.report, obj, self.run.outputs, self.run.space)
 
     def cancel(self, message=None):
         """Cancel the build (the worker stops at its next stage), take the display down: ``{"CANCELLED"}``."""
         self.build.cancel()
-        self.display.end()
+        self.end()
         if message:
             self.report({"WARNING"}, message)
         return {"CANCELLED"}
@@ -244,11 +272,11 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
         except REPORTED_ERRORS as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
-        self._modal = ModalRun(run, ProgressDisplay(context, "Geodesic distance"), self.report)
+        title = "Geodesic distance" + (PREVIEW_TITLE if wants_preview(run) else "")
+        self._modal = ModalRun(run, ProgressDisplay(context, title), self.report)
         try:
-            self._modal.start()
+            self._modal.start(targets[0])
         except Busy as exc:  # pragma: no cover - checked above; another build started in between
-            self._modal.display.end()
             self.report({"WARNING"}, f"Geodesic distance: {exc}")
             return {"CANCELLED"}
         context.window_manager.modal_handler_add(self)
