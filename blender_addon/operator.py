@@ -35,6 +35,9 @@ from .targets import skipped_message, target_objects
 
 #: Errors reported as messages (anything else is a bug: it propagates, with its traceback).
 REPORTED_ERRORS = (AddonError, heatcore.HeatcoreError, MemoryError)
+#: From this many vertices the query and writes after a background build take long enough (0.6 s at
+#: 126k vertices, 1.1 s at 504k; 0.05 s at 51k) that the message saying so is drawn first, one timer step earlier.
+SHOWN_FINISH_VERTICES = 100_000
 
 
 def _status(context, text):
@@ -141,8 +144,9 @@ class ModalRun:
         Esc cancels; a timer event polls the build and, once it is done,
         says so, and at the next timer event checks that the object is
         unchanged, queries and writes the result (on the main thread: the
-        message is on screen while it runs); every other event passes
-        through to the rest of Blender.
+        message is on screen while it runs); below ``SHOWN_FINISH_VERTICES``
+        vertices, where that is over in a blink, it does so at once. Every
+        other event passes through to the rest of Blender.
         """
         if event_type == "ESC" and event_value == "PRESS":
             return self.cancel(f"Geodesic distance cancelled at: {self.build.message}; nothing was written")
@@ -155,7 +159,8 @@ class ModalRun:
         if state != CANCELLED and not self.finishing:
             self.finishing = True
             self.display.progress(BUILD_RANGE[1], "solving for the distance and writing the attributes")
-            return {"PASS_THROUGH"}
+            if len(self.run.V) >= SHOWN_FINISH_VERTICES:
+                return {"PASS_THROUGH"}
         try:
             if state == CANCELLED:
                 return {"CANCELLED"}

@@ -4,7 +4,8 @@ Driven as ``test_blender_modal.py`` drives the button (``ModalRun`` with timer
 and Esc events, a gate holding the worker at a stage): while the refined
 solver builds, the preview is there and nothing is written; at the end the
 written result is the refined one, the script API's; Esc takes it down with
-nothing written.
+nothing written. A quick finish is written at the timer event that sees the
+build done.
 """
 
 import importlib
@@ -97,3 +98,19 @@ def test_no_preview_where_the_mesh_is_not_refined_or_the_sources_are_not_vertice
     modal.start(obj)
     assert modal.preview is None
     assert drive(modal) == {"FINISHED"}
+
+
+@pytest.mark.parametrize("shown_from, events", [(100_000, 1), (0, 2)])
+def test_a_quick_finish_is_written_at_the_timer_event_that_sees_the_build_done(modules, monkeypatch, shown_from,
+                                                                              events):
+    # below SHOWN_FINISH_VERTICES the query and writes run at once (0.1 s earlier); above, the message is drawn first
+    monkeypatch.setattr(modules["operator"], "SHOWN_FINISH_VERTICES", shown_from)
+    obj = ico_sphere(3)
+    select_only(obj, [0])
+    modal, _ = modal_run(modules, obj)
+    modal.start(obj)
+    assert modal.build.wait(60)
+    states = [modal.handle(bpy.context, "TIMER") for _ in range(events)]
+    assert states == [{"PASS_THROUGH"}] * (events - 1) + [{"FINISHED"}]
+    assert modal.display.shown[-1][1] == "solving for the distance and writing the attributes"
+    assert "geodesic_distance" in obj.data.attributes
