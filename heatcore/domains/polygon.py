@@ -365,14 +365,15 @@ class PolygonMesh(MeshDomain):
         self.polygon_map[kept] = np.arange(int(kept.sum()))
         refine = settings.refine
         progress(0.05, "checking the polygons' shapes (crossing sides, concave corners)")
+        planes = {}  # each size's plane coordinates: the crossing check's, reused by the triangulation
         offsets, indices, origin = simple_polygons(
-            self.vertices, self.offsets, self.indices, np.flatnonzero(kept), split_crossing
+            self.vertices, self.offsets, self.indices, np.flatnonzero(kept), split_crossing, planes
         )
         used = np.unique(self.indices)
         self.vertex_map = np.full(n, -1, dtype=np.int64)
         self.vertex_map[used] = np.arange(used.size)
         offsets, indices, self._origin, self.n_triangulated = triangulate_where_needed(
-            self.vertices, offsets, indices, origin, everywhere=not virtual
+            self.vertices, offsets, indices, origin, everywhere=not virtual, planes=planes
         )
         self._spanned = (offsets, indices)
         self.delaunay = bool(delaunay)
