@@ -180,17 +180,24 @@ def plane_coordinates(P):
     1.0
     """
     centered = P - P.mean(axis=1, keepdims=True)
-    normal = 0.5 * np.cross(centered, np.roll(centered, -1, axis=1)).sum(axis=1)  # vector area
+    following = np.concatenate([centered[:, 1:], centered[:, :1]], axis=1)
+    normal = 0.5 * _cross3(centered, following).sum(axis=1)  # vector area
     spread = (centered**2).sum(axis=(1, 2))
     weak = np.linalg.norm(normal, axis=1) <= 1e-3 * spread  # a bowtie's areas cancel: the least-spread direction
     if weak.any():
         normal[weak] = np.linalg.svd(centered[weak], full_matrices=False)[2][:, 2]
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
     helper = np.where(np.abs(normal[:, :1]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])
-    u = np.cross(normal, helper)
+    u = _cross3(normal, helper)
     u /= np.linalg.norm(u, axis=1, keepdims=True)
-    v = np.cross(normal, u)
+    v = _cross3(normal, u)
     return np.stack([np.einsum("pkd,pd->pk", centered, u), np.einsum("pkd,pd->pk", centered, v)], axis=2)
+
+
+def _cross3(a, b):
+    """``np.cross`` of 3-vectors along the last axis, the same numbers, without its axis moves and copies."""
+    return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1], a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+                     a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]], axis=-1)
 
 
 def _segments_cross(flat, a, b):
