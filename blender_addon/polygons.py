@@ -32,8 +32,8 @@ False
 
 import numpy as np
 
-from ._heatcore import heatcore
 from . import adapters
+from ._heatcore import heatcore
 from .adapters import AddonError
 
 #: The choices of ``polygons=``: faces kept as polygons where the mesh has n-gons, or loop triangles always.

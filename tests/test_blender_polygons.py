@@ -10,6 +10,7 @@ measured as its fan triangles, with a warning.
 """
 
 import importlib
+import itertools
 
 import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bpy
@@ -172,4 +173,4 @@ def test_polygon_arrays_are_the_faces_as_blender_lists_them(addon):  # noqa: F81
     polygons = importlib.import_module("blender_addon.polygons")
     offsets, indices = polygons.polygon_arrays(mesh)
     assert np.diff(offsets).tolist() == [len(f) for f in F]
-    assert [indices[a:b].tolist() for a, b in zip(offsets, offsets[1:])] == faces(mesh)
+    assert [indices[a:b].tolist() for a, b in itertools.pairwise(offsets)] == faces(mesh)

@@ -45,7 +45,7 @@ def test_preview_is_drawn_at_once_and_the_refined_result_is_written(modules):
     overlay = modules["overlay"]
     obj = ico_sphere(3)  # 162 vertices: its solver is built on 40,962
     select_only(obj, [0])
-    modal, reports = modal_run(modules, obj, isolines=10)
+    modal, _ = modal_run(modules, obj, isolines=10)
     reached, release = gate(modal, modules, "factoring the heat matrix")
     modal.start(obj)
     assert reached.wait(60)
@@ -76,7 +76,7 @@ def test_esc_takes_the_preview_down_and_writes_nothing(modules):
     obj = ico_sphere(3)
     select_only(obj, [5])
     before = snapshot(obj)
-    modal, reports = modal_run(modules, obj)
+    modal, _ = modal_run(modules, obj)
     reached, release = gate(modal, modules, "factoring the heat matrix")
     modal.start(obj)
     assert reached.wait(60)

@@ -460,7 +460,7 @@ def test_the_crossing_check_hands_its_plane_coordinates_to_the_triangulation():
     V, polys = grid_and_mixed()
     offsets, idx = polygon_arrays(polys, len(V))
     planes = {}
-    o, i, origin = simple_polygons(V, offsets, idx, np.arange(len(polys)), planes=planes)
+    o, i, _ = simple_polygons(V, offsets, idx, np.arange(len(polys)), planes=planes)
     assert sorted(planes) == [4, 6] and planes[4].shape == (len(polys) - 3, 4, 2)
     alone, with_planes = triangulate_polygons(V, o, i), triangulate_polygons(V, o, i, planes)
     np.testing.assert_array_equal(alone[0], with_planes[0])
