@@ -61,6 +61,7 @@ from .adapters import AddonError
 from .api import GeodesicResult, PathResult, compute_geodesic_distance, geodesic_path
 from .background import BackgroundBuild
 from .cache import SOLVERS
+from .overlay import Overlay
 from .probe import GeodesicProbe
 from .signed import SignedResult, signed_distance_from_edges
 from .straighten import StraightenResult, straighten_edges
@@ -104,4 +105,6 @@ def unregister():
     bpy.utils.unregister_class(operator.MESH_OT_heat_geodesic_distance)
     properties.unregister()
     BackgroundBuild.cancel_running()  # a build still running stops at its next stage; nothing is kept
+    for overlay in list(Overlay.live):  # a button's preview still drawn: its run ends with the add-on
+        overlay.remove()
     SOLVERS.clear()

@@ -1,5 +1,7 @@
 """What the geodesic probe draws over the 3D View while it runs: the field, the sources, the path.
 
+The distance button's preview (:mod:`.preview`) draws its field and sources with the same overlay.
+
 Nothing is written to the mesh while the probe runs: the colors of the
 field (heatcore's colormap with its isoline stripes, the colors the probe
 writes when confirmed), the source points, the target and the geodesic path

@@ -32,8 +32,9 @@ False
 
 import numpy as np
 
+from . import adapters
 from ._heatcore import heatcore
-from .adapters import AddonError, stored
+from .adapters import AddonError
 
 #: The choices of ``polygons=``: faces kept as polygons where the mesh has n-gons, or loop triangles always.
 POLYGON_CHOICES = ("AUTO", "TRIANGULATE")
@@ -154,10 +155,15 @@ def polygon_domain(V, polygons, mesh, notes=None, only_parts_of=None, progress=N
                                 progress=progress)
 
 
-def polygon_arrays(mesh):
+def polygon_arrays(mesh, topology=None):
     """Blender's faces as ``(offsets, indices)``: face ``i`` is ``indices[offsets[i]:offsets[i + 1]]``.
 
-    Read with ``foreach_get`` (the mesh synced with Edit Mode first).
+    From :func:`~.adapters.topology` (plain copies of the mesh's layers; pass
+    ``topology`` where it was read already): the face corners' vertices are
+    stored face after face, and a face of ``k`` corners has ``k - 2`` loop
+    triangles, which give the offsets (51k quads: 0.5 ms, where reading
+    ``loop_start``, ``loop_total`` and the loops' ``vertex_index`` element by
+    element took 14 ms).
 
     Examples
     --------
@@ -165,14 +171,7 @@ def polygon_arrays(mesh):
     >>> np.diff(offsets).tolist()  # doctest: +SKIP
     [4, 4, 4, 4, 4, 4]
     """
-    with stored(mesh) as data:
-        start = np.empty(len(data.polygons), dtype=np.int64)
-        data.polygons.foreach_get("loop_start", start)
-        total = np.empty(len(data.polygons), dtype=np.int64)
-        data.polygons.foreach_get("loop_total", total)
-        corners = np.empty(len(data.loops), dtype=np.int64)
-        data.loops.foreach_get("vertex_index", corners)
-    offsets = np.zeros(len(start) + 1, dtype=np.int64)
-    np.cumsum(total, out=offsets[1:])
-    # Each face's loops are consecutive from its loop_start (in face order in Blender 4 and 5: then this is a copy).
-    return offsets, corners[np.repeat(start - offsets[:-1], total) + np.arange(offsets[-1])]
+    corner_verts, triangle_faces = adapters.topology(mesh) if topology is None else topology
+    offsets = np.zeros(int(triangle_faces.max(initial=-1)) + 2, dtype=np.int64)
+    np.cumsum(np.bincount(triangle_faces) + 2, out=offsets[1:])
+    return offsets, corner_verts.astype(np.int64)

@@ -366,7 +366,7 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
     else:
         SOLVERS.discard(run.cache_id)  # free the stale solver before building
         run.F = read_triangles(obj, topology, new_object)  # also for polygons: merged duplicates are measured as triangles
-        run.polygons = (topology[1:] if new_object else polygon_arrays(mesh)) if as_polygons else None
+        run.polygons = (topology[1:] if new_object else polygon_arrays(mesh, topology[:2])) if as_polygons else None
         run.key = run_key(V, topology, frame, settings, as_polygons, points_only, copy=True)  # kept with the solver
     return run
 

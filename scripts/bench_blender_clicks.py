@@ -2,10 +2,15 @@
 
 Runs the real operator ``mesh.heat_geodesic_distance`` headless through
 ``bpy`` with every output on (distance attribute, colors with 10 isolines,
-weight group), on meshes built in bpy: a torus of 51,200 vertices (quads)
-and Suzanne with five levels of Catmull-Clark subdivision (504,482
+weight group), on meshes built in bpy: icospheres of 162 and 2,562 vertices
+(refined to 40,962 solver vertices by default), a torus of 51,200 vertices
+(quads) and Suzanne with five levels of Catmull-Clark subdivision (504,482
 vertices, the size of the issue's 504k mesh), or OBJ files given with
-``--mesh``. A cached click is a click with another selected vertex after the
+``--mesh``. The first click is also timed as the button makes it (the modal
+operator's logic, ``ModalRun``, driven by timer events every
+``display.TIMER_STEP`` as Blender would): until the first answer is on
+screen (a small mesh's preview, drawn at once; else the result) and until
+the result is written. A cached click is a click with another selected vertex after the
 first; the core query is ``solver.distance(src)`` on the cached solver with
 the same source, timed right after each click. The cached click is split into
 stages by timing the functions the add-on calls (whatever is left is
@@ -38,6 +43,8 @@ from blender_addon_loader import load_addon
 
 #: Built-in meshes: name -> (label, maker).
 MESHES = {
+    "icosphere": ("icosphere, 3 subdivisions", lambda: _icosphere(3)),
+    "icosphere5": ("icosphere, 5 subdivisions", lambda: _icosphere(5)),
     "torus": ("torus 256 x 200 (quads)", lambda: _torus()),
     "suzanne5": ("Suzanne, subdivision level 5", lambda: _suzanne(5)),
 }
@@ -55,6 +62,11 @@ STAGES = [
     ("weights", "outputs.weights.distance_weights"),
     ("write weights", "adapters.write_vertex_group"),
 ]
+
+
+def _icosphere(subdivisions):
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=subdivisions)
+    return bpy.context.active_object
 
 
 def _torus():
@@ -163,7 +175,8 @@ class Stages:
         self.seconds.clear()
 
 
-def click(obj, vertex, write_weights):
+def select(obj, vertex):
+    """Select only ``vertex`` (in Edit Mode through bmesh)."""
     if obj.mode == "EDIT":
         import bmesh  # (importable once bpy is)
 
@@ -173,13 +186,49 @@ def click(obj, vertex, write_weights):
         bm.verts[vertex].select_set(True)
         bmesh.update_edit_mesh(obj.data)
     else:
-        select = np.zeros(len(obj.data.vertices), dtype=bool)
-        select[vertex] = True
-        obj.data.vertices.foreach_set("select", select)
+        mask = np.zeros(len(obj.data.vertices), dtype=bool)
+        mask[vertex] = True
+        obj.data.vertices.foreach_set("select", mask)
         obj.data.update()
+
+
+def click(obj, vertex, write_weights):
+    select(obj, vertex)
     start = time.perf_counter()
     bpy.ops.mesh.heat_geodesic_distance(isolines=10, write_weights=write_weights, polygons=POLYGONS[0])
     return time.perf_counter() - start
+
+
+class QuietDisplay:
+    """The button's display (progress indicator, header, status bar), silent: headless Blender has none."""
+
+    def progress(self, fraction, message):
+        pass
+
+    def end(self):
+        pass
+
+
+def button_click(addon, obj, vertex, write_weights):
+    """The button's first click: seconds until a first answer is on screen, and until the result is written.
+
+    The modal operator's logic (``ModalRun``) with a timer event every
+    ``display.TIMER_STEP``; the first answer is the preview where the run
+    draws one (:mod:`blender_addon.preview`), else the written result.
+    """
+    select(obj, vertex)
+    weights = addon.properties.DEFAULT_WEIGHT_GROUP if write_weights else None
+    start = time.perf_counter()
+    run = addon.stages.prepare_run(obj, isolines=10, weight_group=weights, polygons=POLYGONS[0])
+    modal = addon.operator.ModalRun(run, QuietDisplay(), lambda kind, text: None)
+    modal.start(obj)
+    shown = time.perf_counter() - start
+    while True:  # Blender's first timer event comes one step after the click
+        time.sleep(addon.display.TIMER_STEP)
+        if modal.handle(bpy.context, "TIMER") != {"PASS_THROUGH"}:
+            break
+    written = time.perf_counter() - start
+    return (shown if modal.preview is not None else written), written
 
 
 #: The operator's ``polygons`` option for every click (``--polygons``).
@@ -208,6 +257,9 @@ def bench(addon, stages, spec, clicks, write_weights, rng, edit_mode=False):
     first = click(obj, int(on[0]), write_weights)
     build = bpy.context.window_manager.heat_geodesic_stats.solver_seconds
     print(f"{label}: {n:,} vertices; first click {first:.3f} s (solver built in {build:.3f} s)", flush=True)
+    addon.SOLVERS.clear()
+    shown, written = button_click(addon, obj, int(on[0]), write_weights)
+    print(f"  button: first answer {shown:.3f} s, result written {written:.3f} s", flush=True)
     cached, queries, breakdown = [], [], defaultdict(list)
     for k in range(clicks):
         vertex = int(rng.choice(on))
@@ -224,7 +276,8 @@ def bench(addon, stages, spec, clicks, write_weights, rng, edit_mode=False):
         print(f"  cached click {k + 1}: {cached[-1]:.3f} s, core query {queries[-1]:.3f} s", flush=True)
     med = statistics.median
     return {
-        "label": label, "n": n, "first": first, "build": build, "cached": med(cached), "query": med(queries),
+        "label": label, "n": n, "first": first, "build": build, "shown": shown, "written": written,
+        "cached": med(cached), "query": med(queries),
         "stages": {key: med(values) for key, values in breakdown.items()},
     }
 
@@ -233,13 +286,13 @@ def tables(rows, clicks, write_weights, edit_mode=False):
     outputs = "distance, colors (10 isolines), weights" if write_weights else "distance, colors (10 isolines)"
     outputs += "; clicks in Edit Mode" if edit_mode else "; clicks in Object Mode"
     lines = [
-        f"| mesh | vertices | first click | solver build | cached click (median of {clicks}) | core query | "
-        "cached / query |",
-        "|---|---|---|---|---|---|---|",
+        f"| mesh | vertices | first click | solver build | button: first answer shown | button: result written "
+        f"| cached click (median of {clicks}) | core query | cached / query |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
-        lines.append(f"| {r['label']} | {r['n']:,} | {r['first']:.2f} s | {r['build']:.2f} s | "
-                     f"{r['cached']:.3f} s | {r['query']:.3f} s | {r['cached'] / r['query']:.2f} |")
+        lines.append(f"| {r['label']} | {r['n']:,} | {r['first']:.2f} s | {r['build']:.2f} s | {r['shown']:.3f} s | "
+                     f"{r['written']:.2f} s | {r['cached']:.3f} s | {r['query']:.3f} s | {r['cached'] / r['query']:.2f} |")
     keys = ["query"] + [label for label, _ in STAGES] + ["mode switch", "other"]
     keys = [k for k in keys if any(r["stages"].get(k, 0.0) >= 5e-5 for r in rows)]
     lines += ["", f"Cached click by stage (median seconds; outputs: {outputs}):", "",

@@ -9,6 +9,9 @@ cache keeps a mesh's polygon and triangle solvers apart; a bowtie quad is
 measured as its fan triangles, with a warning.
 """
 
+import importlib
+import itertools
+
 import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
 import bpy
 import numpy as np
@@ -160,3 +163,14 @@ def test_a_bowtie_quad_is_measured_as_its_fan_triangles_with_a_warning(addon):  
         result = addon.compute_geodesic_distance(obj, sources=[0], color_attribute=None)
     assert np.isfinite(result.distance).all() and result.distance[0] == 0.0
     assert result.distance[5] >= np.linalg.norm(np.subtract(V[5], V[0])) * (1 - 1e-9)
+
+
+def test_polygon_arrays_are_the_faces_as_blender_lists_them(addon):  # noqa: F811
+    # issue 34: read from the corner layer and the loop triangles' faces, not loop by loop
+    V = [(x, y, 0.0) for y in range(3) for x in range(4)] + [(1.5, 2.5, 0.0)]
+    F = [(0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7), (2, 7, 6), (4, 5, 6, 10, 9, 8), (6, 7, 11, 10), (9, 10, 12)]
+    mesh = mesh_object(V, F, "Mixed").data
+    polygons = importlib.import_module("blender_addon.polygons")
+    offsets, indices = polygons.polygon_arrays(mesh)
+    assert np.diff(offsets).tolist() == [len(f) for f in F]
+    assert [indices[a:b].tolist() for a, b in itertools.pairwise(offsets)] == faces(mesh)

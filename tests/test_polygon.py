@@ -412,7 +412,7 @@ def test_degenerate_polygons():
         (np.zeros((3, 3)), [[0, 1]], "no polygon has three distinct corners"),
         (np.zeros((3, 3)), [[0, 1, 1.5]], "integers"),
         (np.zeros((3, 3)), (np.array([0, 4]), np.array([0, 1, 2])), "offsets"),
-        (np.zeros((3, 3)), [[0, 1, 2]], "zero length"),
+        (np.zeros((3, 3)), [[0, 1, 2]], "no area"),  # built as its one triangle (TriangleMesh)
         ([[0, 0, 0], [1, 0, np.nan], [0, 1, 0]], [[0, 1, 2]], "NaN"),
         (np.zeros((3, 4)), [[0, 1, 2]], "shape"),
     ],
@@ -450,3 +450,22 @@ def test_non_planar_n_gons_are_triangulated_quads_keep_their_virtual_vertex():
     offsets, corners = np.array([0, 6, 12, 16]), np.arange(16)
     assert 0.1 > NONPLANAR_NGON
     assert polygons_to_triangulate(X, offsets, corners).tolist() == [True, False, False]
+
+
+def test_the_crossing_check_hands_its_plane_coordinates_to_the_triangulation():
+    # issue 34: each size's plane coordinates are computed once, by the crossing check; the same triangles come out
+    from heatcore.domains.polygon_shape import simple_polygons
+    from heatcore.domains.polygon_triangulate import triangulate_polygons
+
+    V, polys = grid_and_mixed()
+    offsets, idx = polygon_arrays(polys, len(V))
+    planes = {}
+    o, i, _ = simple_polygons(V, offsets, idx, np.arange(len(polys)), planes=planes)
+    assert sorted(planes) == [4, 6] and planes[4].shape == (len(polys) - 3, 4, 2)
+    alone, with_planes = triangulate_polygons(V, o, i), triangulate_polygons(V, o, i, planes)
+    np.testing.assert_array_equal(alone[0], with_planes[0])
+    np.testing.assert_array_equal(alone[1], with_planes[1])
+    bowtie = np.array([[0, 0, 0], [1, 1, 0], [1, 0, 0], [0, 1, 0]], float)
+    with pytest.warns(hc.HeatcoreWarning, match="cross themselves"):
+        simple_polygons(bowtie, np.array([0, 4]), np.arange(4), np.array([0]), split=True, planes=planes)
+    assert planes == {}  # split: the polygons returned are not those checked

@@ -204,10 +204,10 @@ def test_strongly_non_convex_polygons_stay_unfolded():
     # an arrow-head quad: its split quads would cross themselves; they become triangles
     V = np.array([[0, 0, 0], [2, 1, 0], [0, 2, 0], [0.3, 1, 0], [-1, 1, 0]], float)
     mesh = PolygonMesh(V, [[0, 1, 2, 3], [0, 3, 2, 4]], refine=1)
-    from heatcore.domains.polygon_shape import crossing_polygons
-
-    r = mesh.refinement
-    assert crossing_polygons(r.vertices, r.offsets, r.corners) == []
+    assert mesh.n_triangulated == 2 and mesh.refinement is None  # triangles: built as TriangleMesh builds them
+    sub = mesh.triangles.subdivision
+    a, b, c = (sub.vertices[sub.faces[:, k]] for k in range(3))
+    assert len(sub.faces) == 16 and (np.cross(b - a, c - a)[:, 2] > 0).all()  # split, none folded
     d = hc.HeatSolver(mesh).distance([4])
     assert abs(d[1] - np.linalg.norm(V[1] - V[3]) - np.linalg.norm(V[3] - V[4])) < 0.25
 

@@ -89,7 +89,7 @@ from .polygon_triangulate import (  # noqa: F401
 )
 from .refine import unique_edges
 from .sources import edge_list, index_list
-from .triangle import THIN_TRIANGLE_SLACK
+from .triangle import THIN_TRIANGLE_SLACK, TriangleMesh
 from .validate import one_based_hint, vertex_array
 
 
@@ -286,6 +286,14 @@ class PolygonMesh(MeshDomain):
         The kept polygons, on input vertex indices.
     polygon_map : (m,) int array
         Kept polygon index of each input polygon, ``-1`` if ignored.
+    triangles : TriangleMesh or None
+        Where every polygon is spanned by triangles (the default triangulates
+        them all): the :class:`~heatcore.TriangleMesh` of those triangles,
+        whose operators these are (the same numbers as the polygon build, to
+        rounding, at a triangle mesh's cost); None where virtual vertices remain.
+        ``weights``, ``prolongation``, ``refined_vertices``, ``refined_faces`` and
+        ``refinement`` belong to the polygon build and are set by it only
+        (``refinement`` is None otherwise).
     weights : float array
         Virtual-vertex weight of each corner of the refined polygons (1/3 on triangles, unused).
     prolongation : (n_ops + n_refined_virtual, n_ops) sparse matrix
@@ -357,20 +365,25 @@ class PolygonMesh(MeshDomain):
         self.polygon_map[kept] = np.arange(int(kept.sum()))
         refine = settings.refine
         progress(0.05, "checking the polygons' shapes (crossing sides, concave corners)")
+        planes = {}  # each size's plane coordinates: the crossing check's, reused by the triangulation
         offsets, indices, origin = simple_polygons(
-            self.vertices, self.offsets, self.indices, np.flatnonzero(kept), split_crossing
+            self.vertices, self.offsets, self.indices, np.flatnonzero(kept), split_crossing, planes
         )
         used = np.unique(self.indices)
         self.vertex_map = np.full(n, -1, dtype=np.int64)
         self.vertex_map[used] = np.arange(used.size)
         offsets, indices, self._origin, self.n_triangulated = triangulate_where_needed(
-            self.vertices, offsets, indices, origin, everywhere=not virtual
+            self.vertices, offsets, indices, origin, everywhere=not virtual, planes=planes
         )
         self._spanned = (offsets, indices)
         self.delaunay = bool(delaunay)
         corners = self.vertex_map[indices]
         self._split = (offsets, corners)
         self.n_virtual = int((np.diff(offsets) > 3).sum())
+        self.triangles = self.refinement = None
+        if self._plain_triangles(offsets, indices, used.size):
+            self._build_triangles(indices.reshape(-1, 3), refine, progress.part(0.45, 1.0))
+            return
         self.part_levels, levels, part = refine_levels(used.size, offsets, corners, refine)
         self.levels = int(self.part_levels.max())
         progress(0.45, f"polygon refinement ({self.levels} level{'s' * (self.levels != 1)})" if self.levels
@@ -383,6 +396,27 @@ class PolygonMesh(MeshDomain):
         progress(0.6, "Laplacian, mass and gradient of the polygons")
         self.operators = self._build_operators(r.vertices, r.offsets, r.corners, used.size)
         progress(1.0, "polygon mesh ready")
+
+    def _plain_triangles(self, offsets, indices, n_used):
+        """Whether the polygons, as spanned, are triangles that :class:`~heatcore.TriangleMesh` builds as they are.
+
+        Every polygon a triangle with three distinct corners (a polygon that visits
+        a corner twice keeps its part unsplit: :func:`refine_levels`), on every used vertex.
+        """
+        if (np.diff(offsets) != 3).any():
+            return False
+        T = indices.reshape(-1, 3)
+        if ((T[:, 0] == T[:, 1]) | (T[:, 1] == T[:, 2]) | (T[:, 0] == T[:, 2])).any():
+            return False
+        return np.count_nonzero(np.bincount(indices, minlength=self.vertices.shape[0])) == n_used
+
+    def _build_triangles(self, triangles, refine, progress):
+        """The operators of :class:`~heatcore.TriangleMesh` on the polygons' triangles: its numbers, at its cost."""
+        mesh = TriangleMesh(self.vertices, triangles, refine=refine, weld=None, progress=progress)
+        self.triangles, self.operators = mesh, mesh.operators
+        self.left_out = (*self.left_out, *mesh.left_out)
+        self.part_levels, self.levels = mesh.part_levels, mesh.levels
+        self.n_flips, self.thin_parts, self.mollification = mesh.n_flips, mesh.thin_parts, mesh.mollification
 
     def _keep_parts_of(self, vertices):
         """Keep the polygons of the connected parts that hold one of ``vertices`` (all where none does)."""
@@ -510,6 +544,9 @@ class PolygonMesh(MeshDomain):
         if not_side.any():  # a diagonal of a triangulated polygon is an edge of its triangles, not of the mesh
             raise InvalidSourceError(f"vertex pair {e[np.flatnonzero(not_side)[0]].tolist()} is not an edge of the "
                                      "polygon mesh")
+        if self.triangles is not None:
+            pins.add(self.triangles.vertices_on_edges(e))
+            return
         edges, r = self.refinement.edges, self.refinement
         n = int(max(edges.max(), ce.max())) + 1
         keys = edges[:, 0] * n + edges[:, 1]
@@ -540,5 +577,7 @@ class PolygonMesh(MeshDomain):
         pos = np.repeat(starts - np.r_[0, np.cumsum(sizes)[:-1]], sizes) + np.arange(sizes.sum())
         corners = np.unique(self.vertex_map[self.indices[pos]])
         split = np.flatnonzero(np.isin(self._origin, kept))  # the polygons split (crossing ones: triangles)
-        pins.add(np.r_[corners, vertices_inside(self.refinement, *self._split, split)])
+        inside = (self.triangles.vertices_inside(split) if self.triangles is not None
+                  else vertices_inside(self.refinement, *self._split, split))
+        pins.add(np.r_[corners, inside])
 

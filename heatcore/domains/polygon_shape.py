@@ -25,7 +25,7 @@ import numpy as np
 from ..errors import HeatcoreWarning, InvalidMeshError
 
 
-def simple_polygons(X, offsets, corners, given, split=False):
+def simple_polygons(X, offsets, corners, given, split=False, planes=None):
     """The polygons as virtual refinement may span them: a self-crossing one is an error, or its fan triangles.
 
     Parameters
@@ -39,6 +39,9 @@ def simple_polygons(X, offsets, corners, given, split=False):
         Replace self-crossing polygons by their fan triangles from the first
         corner (real triangles), with a :class:`~heatcore.HeatcoreWarning`,
         instead of raising.
+    planes : dict, optional
+        Filled as :func:`crossing_polygons` fills it, and emptied where
+        polygons were split (those returned are then not those given).
 
     Returns
     -------
@@ -59,7 +62,7 @@ def simple_polygons(X, offsets, corners, given, split=False):
     Traceback (most recent call last):
     heatcore.errors.InvalidMeshError: 1 polygon(s) cross themselves, as a bowtie does: 7 (sides 0 and 2); polygon 7 has vertices [0, 1, 2, 3]. Fix them, pass split_crossing=True to use their fan triangles, or read the mesh as triangles
     """
-    crossing = crossing_polygons(X, offsets, corners)
+    crossing = crossing_polygons(X, offsets, corners, planes)
     if not crossing:
         return offsets, corners, np.arange(offsets.size - 1)
     bad = np.array([k for k, _ in crossing])
@@ -73,6 +76,8 @@ def simple_polygons(X, offsets, corners, given, split=False):
             "use their fan triangles, or read the mesh as triangles"
         )
     warnings.warn(f"{bad.size} polygon(s) cross themselves and are split into triangles: {named}", HeatcoreWarning, stacklevel=3)
+    if planes is not None:
+        planes.clear()
     sizes = np.diff(offsets)
     keep = np.ones(sizes.size, dtype=bool)
     keep[bad] = False
@@ -112,7 +117,7 @@ def fan_triangulate(offsets, indices):
     return tri, polygon
 
 
-def crossing_polygons(X, offsets, corners):
+def crossing_polygons(X, offsets, corners, planes=None):
     """Polygons whose sides cross, each with the first pair of crossing sides.
 
     Parameters
@@ -122,6 +127,11 @@ def crossing_polygons(X, offsets, corners):
     offsets : (m + 1,) int array
         Polygon ``p`` has corners ``corners[offsets[p]:offsets[p + 1]]``.
     corners : (offsets[-1],) int array
+    planes : dict, optional
+        Filled with what is computed on the way: ``planes[k]`` the
+        :func:`plane_coordinates` of the polygons of ``k > 3`` corners, in
+        their order (the triangulation reuses them:
+        :func:`~heatcore.domains.polygon_triangulate.triangulate_polygons`).
 
     Returns
     -------
@@ -141,6 +151,8 @@ def crossing_polygons(X, offsets, corners):
         polygons = np.flatnonzero(sizes == k)
         P = X[corners[offsets[polygons][:, None] + np.arange(k)]]  # (p, k, 3)
         flat = plane_coordinates(P)
+        if planes is not None:
+            planes[k] = flat
         a, b = np.triu_indices(k, 2)
         keep = (b - a) % k != k - 1  # sides k-1 and 0 share corner 0
         a, b = a[keep], b[keep]
@@ -168,17 +180,24 @@ def plane_coordinates(P):
     1.0
     """
     centered = P - P.mean(axis=1, keepdims=True)
-    normal = 0.5 * np.cross(centered, np.roll(centered, -1, axis=1)).sum(axis=1)  # vector area
+    following = np.concatenate([centered[:, 1:], centered[:, :1]], axis=1)
+    normal = 0.5 * _cross3(centered, following).sum(axis=1)  # vector area
     spread = (centered**2).sum(axis=(1, 2))
     weak = np.linalg.norm(normal, axis=1) <= 1e-3 * spread  # a bowtie's areas cancel: the least-spread direction
     if weak.any():
         normal[weak] = np.linalg.svd(centered[weak], full_matrices=False)[2][:, 2]
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
     helper = np.where(np.abs(normal[:, :1]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])
-    u = np.cross(normal, helper)
+    u = _cross3(normal, helper)
     u /= np.linalg.norm(u, axis=1, keepdims=True)
-    v = np.cross(normal, u)
+    v = _cross3(normal, u)
     return np.stack([np.einsum("pkd,pd->pk", centered, u), np.einsum("pkd,pd->pk", centered, v)], axis=2)
+
+
+def _cross3(a, b):
+    """``np.cross`` of 3-vectors along the last axis, the same numbers, without its axis moves and copies."""
+    return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1], a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+                     a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]], axis=-1)
 
 
 def _segments_cross(flat, a, b):

@@ -155,7 +155,7 @@ def polygons_to_triangulate(X, offsets, corners):
     return chosen
 
 
-def triangulate_polygons(X, offsets, corners):
+def triangulate_polygons(X, offsets, corners, planes=None):
     """Triangles covering each polygon: its constrained Delaunay triangulation in its plane.
 
     Triangles are kept; quads get the diagonal of the Delaunay split (the
@@ -168,6 +168,10 @@ def triangulate_polygons(X, offsets, corners):
     offsets, corners : int arrays
         Polygon ``p`` is ``corners[offsets[p]:offsets[p + 1]]``; simple
         (non-self-crossing) polygons, as :class:`~heatcore.PolygonMesh` keeps.
+    planes : dict, optional
+        ``planes[k]``: the :func:`~heatcore.domains.polygon_shape.plane_coordinates`
+        of these polygons of ``k`` corners, in order, where computed already
+        (:func:`~heatcore.domains.polygon_shape.crossing_polygons` fills it).
 
     Returns
     -------
@@ -191,10 +195,9 @@ def triangulate_polygons(X, offsets, corners):
         idx = corners[offsets[polygons][:, None] + np.arange(k)]
         if k == 3:
             local = np.zeros((polygons.size, 1, 3), dtype=np.int64) + np.arange(3)
-        elif k == 4:
-            local = _quad_splits(plane_coordinates(X[idx]), idx)
         else:
-            local = delaunay_triangles(_counterclockwise(plane_coordinates(X[idx])), STRAIGHT_TOLERANCE)
+            Q = planes[k] if planes and k in planes else plane_coordinates(X[idx])
+            local = _quad_splits(Q, idx) if k == 4 else delaunay_triangles(_counterclockwise(Q), STRAIGHT_TOLERANCE)
         parts.append(np.take_along_axis(idx[:, None, :], local.reshape(polygons.size, -1)[:, None, :], 2)
                      .reshape(-1, 3))
         owners.append(np.repeat(polygons, k - 2))
@@ -290,7 +293,7 @@ def mostly_triangles(X, offsets, corners, chosen):
     return (triangles >= MOSTLY_TRIANGLES * np.bincount(part, weights=area, minlength=count))[part] & (sizes > 3)
 
 
-def triangulate_where_needed(X, offsets, corners, origin, everywhere=False):
+def triangulate_where_needed(X, offsets, corners, origin, everywhere=False, planes=None):
     """Polygons virtual refinement spans badly (:func:`polygons_to_triangulate`), or all, replaced by their triangles.
 
     Parameters
@@ -301,6 +304,9 @@ def triangulate_where_needed(X, offsets, corners, origin, everywhere=False):
         What each polygon comes from (carried to its triangles).
     everywhere : bool, default False
         Triangulate every polygon (what ``PolygonMesh`` does by default), whatever its shape.
+    planes : dict, optional
+        The polygons' plane coordinates by size (:func:`~heatcore.domains.polygon_shape.crossing_polygons`),
+        which triangulating ``everywhere`` reuses.
 
     Returns
     -------
@@ -325,7 +331,8 @@ def triangulate_where_needed(X, offsets, corners, origin, everywhere=False):
     chosen = np.flatnonzero(concave)
     pos = np.repeat(offsets[chosen] - np.r_[0, np.cumsum(sizes[chosen])[:-1]], sizes[chosen])
     sub_offsets = np.r_[0, np.cumsum(sizes[chosen])]
-    triangles, polygon = triangulate_polygons(X, sub_offsets, corners[pos + np.arange(pos.size)])
+    triangles, polygon = triangulate_polygons(X, sub_offsets, corners[pos + np.arange(pos.size)],
+                                              planes if everywhere else None)  # everywhere: the same polygons
     keep = ~concave
     new_sizes = np.r_[sizes[keep], np.full(len(triangles), 3)]
     new_corners = np.r_[corners[np.repeat(keep, sizes)], triangles.ravel()]

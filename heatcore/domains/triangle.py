@@ -318,20 +318,34 @@ class TriangleMesh(MeshDomain):
     def _point_elements(self):
         return self.faces
 
-    def _pin_edges(self, edges, pins):
-        """Mesh edges (vertex pairs): their end points and the refined vertices on them, at distance 0."""
+    def vertices_on_edges(self, edges):
+        """Operator vertices on mesh edges (input vertex pairs): their end points and the refined vertices on them.
+
+        Raises :class:`~heatcore.errors.InvalidSourceError` for a pair that is not an edge of the mesh.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> mesh = TriangleMesh(np.eye(3), [[0, 1, 2]], refine=1)
+        >>> mesh.vertices_on_edges([[0, 1]]).tolist()  # the ends and the midpoint
+        [0, 1, 3]
+        """
         e = edge_list(edges, self.n_input_vertices)
         ce = np.sort(self._referenced(e.ravel()).reshape(-1, 2), axis=1)
         edge_id = self._edge_ids(ce, e)
         inner = np.flatnonzero(np.isin(self.subdivision.vertex_edge, edge_id))
-        pins.add(np.r_[np.unique(ce), inner])
+        return np.r_[np.unique(ce), inner]
+
+    def _pin_edges(self, edges, pins):
+        """Mesh edges (vertex pairs): their end points and the refined vertices on them, at distance 0."""
+        pins.add(self.vertices_on_edges(edges))
 
     def _pin_region(self, faces, pins):
         """Faces (indices): their corners and the refined vertices inside them, at distance 0."""
         f = index_list(faces, self.faces.shape[0], "face")
         corners = np.unique(self.vertex_map[self.faces[f]])
         corners = corners[corners >= 0]  # an ignored face may have corners no kept face uses
-        pins.add(np.r_[corners, self._vertices_inside(f)])
+        pins.add(np.r_[corners, self.vertices_inside(f)])
 
     def _pin_points(self, points, pins):
         """Points on faces ``(face_indices, barycentric)``: straight-line distances inside each face."""
@@ -352,7 +366,7 @@ class TriangleMesh(MeshDomain):
         for k in range(fi.size):  # a handful of points: one pin set per point
             tri = self.vertex_map[self.faces[fi[k]]]
             corners = sub.vertices[tri]  # in the part's unit, as every pinned distance
-            inside = np.r_[tri, self._vertices_inside(fi[k : k + 1])]
+            inside = np.r_[tri, self.vertices_inside(fi[k : k + 1])]
             d = np.linalg.norm(sub.vertices[inside] - b[k] @ corners, axis=1)
             hv, hw = self._point_impulse(corners, self._part_levels_of(tri[0]), b[k], inside)
             pins.add(inside, d, hv, hw)
@@ -400,8 +414,16 @@ class TriangleMesh(MeshDomain):
             raise InvalidSourceError(f"vertex pair {bad} is not an edge of the mesh")
         return pos
 
-    def _vertices_inside(self, user_faces):
-        """Refined vertices lying on or inside the given input faces (none without refinement)."""
+    def vertices_inside(self, user_faces):
+        """Refined operator vertices lying on the sides of, or inside, the given input faces (none without refinement).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> mesh = TriangleMesh(np.eye(3), [[0, 1, 2]], refine=1)
+        >>> mesh.vertices_inside([0]).tolist()  # the three midpoints
+        [3, 4, 5]
+        """
         sub = self.subdivision
         if self.levels == 0:
             return np.zeros(0, dtype=np.int64)

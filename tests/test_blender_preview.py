@@ -1,0 +1,116 @@
+"""The button's first answer on a small mesh (issue 34): the unrefined distance drawn at once, never written.
+
+Driven as ``test_blender_modal.py`` drives the button (``ModalRun`` with timer
+and Esc events, a gate holding the worker at a stage): while the refined
+solver builds, the preview is there and nothing is written; at the end the
+written result is the refined one, the script API's; Esc takes it down with
+nothing written. A quick finish is written at the timer event that sees the
+build done.
+"""
+
+import importlib
+
+import blender_required  # noqa: F401 (first: without bpy, the module is skipped)
+import bpy
+import numpy as np
+import pytest
+from test_blender import (  # noqa: F401
+    addon,
+    assert_same_snapshot,
+    attribute,
+    empty_scene,
+    ico_sphere,
+    select_only,
+    snapshot,
+)
+from test_blender_modal import drive, gate, modal_run
+
+import heatcore as hc
+from heatcore.reference import mean_relative_error
+
+
+@pytest.fixture(scope="module")
+def modules(addon):  # noqa: F811
+    names = ("api", "stages", "background", "operator", "overlay", "preview")
+    return {name: importlib.import_module(f"blender_addon.{name}") for name in names}
+
+
+def great_circle(obj, source):
+    V = np.array([v.co for v in obj.data.vertices])
+    V /= np.linalg.norm(V, axis=1, keepdims=True)
+    return np.arccos(np.clip(V @ V[source], -1.0, 1.0))
+
+
+def test_preview_is_drawn_at_once_and_the_refined_result_is_written(modules):
+    overlay = modules["overlay"]
+    obj = ico_sphere(3)  # 162 vertices: its solver is built on 40,962
+    select_only(obj, [0])
+    modal, _ = modal_run(modules, obj, isolines=10)
+    reached, release = gate(modal, modules, "factoring the heat matrix")
+    modal.start(obj)
+    assert reached.wait(60)
+    preview = modal.preview
+    assert preview is not None and preview.overlay in overlay.Overlay.live  # drawn while the solver builds
+    assert "geodesic_distance" not in obj.data.attributes  # and nothing written
+    # the preview is heatcore's distance on the mesh as it is (its 162 vertices, refine=0)
+    V = np.array([v.co for v in obj.data.vertices])
+    coarse = hc.HeatSolver(hc.TriangleMesh(V, modal.run.F, refine=0, weld=None)).distance([0])
+    np.testing.assert_allclose(preview.distance, coarse, rtol=1e-12, atol=1e-12)
+    assert preview.data.colors.shape == (162, 4) and preview.data.sources.shape == (1, 3)
+    exact = great_circle(obj, 0)
+    release.set()
+    assert mean_relative_error(preview.distance, exact) == pytest.approx(0.0274, abs=0.0005)  # measured 2.74%
+    assert drive(modal) == {"FINISHED"}
+    assert preview.overlay is None and not overlay.Overlay.live  # taken down
+    written = attribute(obj.data, "geodesic_distance")
+    assert mean_relative_error(written, exact) == pytest.approx(0.0125, abs=0.0005)  # refined: measured 1.25%
+    # the default's result, as a script gets it
+    twin = ico_sphere(3)
+    expected = modules["api"].compute_geodesic_distance(twin, sources=[0], isolines=10)
+    np.testing.assert_allclose(modal.result.distance, expected.distance, rtol=1e-12, atol=1e-12)
+    np.testing.assert_array_equal(written, attribute(twin.data, "geodesic_distance"))
+
+
+def test_esc_takes_the_preview_down_and_writes_nothing(modules):
+    overlay = modules["overlay"]
+    obj = ico_sphere(3)
+    select_only(obj, [5])
+    before = snapshot(obj)
+    modal, _ = modal_run(modules, obj)
+    reached, release = gate(modal, modules, "factoring the heat matrix")
+    modal.start(obj)
+    assert reached.wait(60)
+    release.set()  # the worker goes on to the next stage, where it sees the cancel
+    assert modal.preview.overlay in overlay.Overlay.live
+    assert modal.handle(bpy.context, "ESC", "PRESS") == {"CANCELLED"}
+    assert modal.build.wait(60)
+    assert modal.preview.overlay is None and not overlay.Overlay.live
+    assert_same_snapshot(before, snapshot(obj))
+    assert "geodesic_distance" not in obj.data.attributes
+
+
+@pytest.mark.parametrize("options", [{"refine": 0}, {"selected": "FACES"}])
+def test_no_preview_where_the_mesh_is_not_refined_or_the_sources_are_not_vertices(modules, options):
+    obj = ico_sphere(3)
+    select_only(obj, [0, 1, 2])
+    modal, _ = modal_run(modules, obj, **options)
+    assert not modules["preview"].wants_preview(modal.run)
+    modal.start(obj)
+    assert modal.preview is None
+    assert drive(modal) == {"FINISHED"}
+
+
+@pytest.mark.parametrize("shown_from, events", [(100_000, 1), (0, 2)])
+def test_a_quick_finish_is_written_at_the_timer_event_that_sees_the_build_done(modules, monkeypatch, shown_from,
+                                                                              events):
+    # below SHOWN_FINISH_VERTICES the query and writes run at once (0.1 s earlier); above, the message is drawn first
+    monkeypatch.setattr(modules["operator"], "SHOWN_FINISH_VERTICES", shown_from)
+    obj = ico_sphere(3)
+    select_only(obj, [0])
+    modal, _ = modal_run(modules, obj)
+    modal.start(obj)
+    assert modal.build.wait(60)
+    states = [modal.handle(bpy.context, "TIMER") for _ in range(events)]
+    assert states == [{"PASS_THROUGH"}] * (events - 1) + [{"FINISHED"}]
+    assert modal.display.shown[-1][1] == "solving for the distance and writing the attributes"
+    assert "geodesic_distance" in obj.data.attributes
