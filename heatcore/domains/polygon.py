@@ -382,7 +382,8 @@ class PolygonMesh(MeshDomain):
         self.n_virtual = int((np.diff(offsets) > 3).sum())
         self.triangles = self.refinement = None
         if self._plain_triangles(offsets, indices, used.size):
-            self._build_triangles(indices.reshape(-1, 3), refine, progress.part(0.45, 1.0))
+            self._build_triangles(indices.reshape(-1, 3), refine, progress.part(0.45, 0.99))
+            progress(1.0, "polygon mesh ready")
             return
         self.part_levels, levels, part = refine_levels(used.size, offsets, corners, refine)
         self.levels = int(self.part_levels.max())
