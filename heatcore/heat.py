@@ -140,6 +140,7 @@ class HeatSolver:
 
         heat = self._heat_step(ops)
         self._gradient_transposed = ops.gradient.T  # a view: -div X = G^T (volumes * X)
+        self._exponent = output_exponent(ops.unit_exponent)
         self.timings["setup"] = time.perf_counter() - start
         if deferred:
             self.factors.defer(heat, progress)
@@ -378,8 +379,7 @@ class HeatSolver:
             for j, pins in enumerate(block):
                 hit[self.component[pins.vertices], j] = True
             phi[~hit[self.component]] = np.inf
-        exponent = self.ops.unit_exponent
-        return np.ldexp(phi, exponent[:, None] if np.ndim(exponent) else exponent)
+        return phi if self._exponent is None else np.ldexp(phi, self._exponent)
 
     def nearest_source(self, sources, *, return_distance=False, max_memory_mb=None):
         """The index (into ``sources``) of the nearest source at every vertex: :func:`heatcore.voronoi.nearest_source`."""
@@ -490,3 +490,18 @@ class HeatSolver:
     def unit_field(self, u):
         """``-grad u / |grad u|`` per element, 0 where the gradient vanishes or is not finite (see :mod:`heatcore.steps.unit_field`)."""
         return unit_field(self.ops, u, 1.0, self._element_h)
+
+
+def output_exponent(unit_exponent):
+    """What ``np.ldexp`` takes to bring ``(n, k)`` distances from the operators' units to the input's: a column
+    ``(n, 1)``, one number where every vertex has the same unit, or None where that is the input's own.
+
+    Examples
+    --------
+    >>> output_exponent(np.zeros(3, int)) is None, output_exponent(np.full(3, 2)), output_exponent(np.arange(2)).shape
+    (True, 2, (2, 1))
+    """
+    exponent = np.unique(unit_exponent)
+    if exponent.size > 1:
+        return np.asarray(unit_exponent)[:, None]
+    return None if exponent[0] == 0 else int(exponent[0])
