@@ -33,7 +33,7 @@ from .backends import SUPERNODAL_MIN_SIZE
 from .interface import Factor, canonical_csr
 from .libraries import optional
 from .memory import release_free_memory
-from .sparse_rhs import MAX_NONZEROS, SparseForwardSolver
+from .sparse_rhs import SparseForwardSolver, is_sparse
 
 #: CHOLMOD's codes of the systems ``L x = b``, ``L^T x = b``, ``x = P b``, ``x = P^T b`` (``cholmod.solve``'s ``sys``).
 CHOLMOD_L, CHOLMOD_LT, CHOLMOD_P, CHOLMOD_PT = 4, 5, 7, 8
@@ -206,7 +206,7 @@ class SupernodalFactor(Factor):
 
     def _sparse_enough(self, b):
         """Whether ``b`` (n,) may take the sparse forward solve (which may still decline it)."""
-        return np.count_nonzero(b) <= MAX_NONZEROS and self._sparse_forward is not None
+        return is_sparse(b) and self._sparse_forward is not None
 
     def forward(self, b):
         """The first half of a solve, ``y = L^-1 P b`` for one right-hand side (sparse ones by the sparse path).
