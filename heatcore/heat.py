@@ -91,7 +91,7 @@ class HeatSolver:
     m_effective : float
         The largest of ``part_m``.
     hop_diameter : int
-        Edge hops across the widest component (double-sweep estimate).
+        Edge hops across the widest component (double-sweep estimate, on first use).
     n_components : int
         Connected components of the domain.
     component : (n,) int array
@@ -159,9 +159,12 @@ class HeatSolver:
         graph = edge_graph(ops.elements, n)
         parts = ops.parts if ops.parts is not None else vertex_components(ops.elements, n, graph)
         self.n_components, self.component = parts
-        hops = hop_diameters(graph, self.component, self.n_components)
+        # The first sweep's bounds are enough where they need no larger m (underflow_safe_m grows with the hops).
+        hops = hop_diameters(graph, self.component, self.n_components, bounds=True)
+        self._hops = None
+        if (underflow_safe_m(hops) > self.m).any():
+            hops = self._hops = hop_diameters(graph, self.component, self.n_components)
         del graph
-        self.hop_diameter = int(hops.max())
         self.part_m = np.maximum(self.m, underflow_safe_m(hops))
         self.m_effective = float(self.part_m.max())
         if self.m_effective > self.m:
@@ -175,6 +178,15 @@ class HeatSolver:
             self.t = np.ldexp(step[ground], 2 * np.broadcast_to(ops.unit_exponent, (n,))[ground])
         time_step = step[0] if (step == step[0]).all() else step
         return HeatStep(time_step, self.boundary, self.component, self.n_components, ground)
+
+    @property
+    def hop_diameter(self):
+        """Edge hops across the widest component (double-sweep estimate; swept on first use where the time step
+        did not need it)."""
+        if self._hops is None:
+            n = self.ops.n_vertices
+            self._hops = hop_diameters(edge_graph(self.ops.elements, n), self.component, self.n_components)
+        return int(self._hops.max())
 
     @property
     def heat_flow(self):

@@ -250,7 +250,7 @@ def part_means(values, part, count):
         return total / np.bincount(part, minlength=count)
 
 
-def hop_diameters(graph, part, count):
+def hop_diameters(graph, part, count, bounds=False):
     """Edge hops across each part (double-sweep breadth-first estimate, exact on trees and paths).
 
     Both sweeps start from one vertex per part at once, so the cost does not
@@ -261,6 +261,9 @@ def hop_diameters(graph, part, count):
     graph : (n, n) symmetric sparse matrix
     part : (n,) int array
     count : int
+    bounds : bool, default False
+        Return upper bounds from the first sweep alone (twice each part's
+        depth from its first vertex, at least the diameter), for half the work.
 
     Returns
     -------
@@ -271,9 +274,14 @@ def hop_diameters(graph, part, count):
     >>> path = vertex_graph(np.array([[0, 1], [1, 2], [3, 4]]), 5)
     >>> hop_diameters(path, np.array([0, 0, 0, 1, 1]), 2).tolist()
     [2, 1]
+    >>> hop_diameters(path, np.array([0, 0, 0, 1, 1]), 2, bounds=True).tolist()
+    [4, 2]
     """
     hops = _hops_from(graph, first_of_each(part, count))
-    far = np.flatnonzero(hops == part_extremes(hops, part, count, largest=True)[part])
+    depth = part_extremes(hops, part, count, largest=True)
+    if bounds:
+        return 2 * depth.astype(np.int64)
+    far = np.flatnonzero(hops == depth[part])
     far = far[np.unique(part[far], return_index=True)[1]]  # one farthest vertex per part
     return part_extremes(_hops_from(graph, far), part, count, largest=True).astype(np.int64)
 
