@@ -141,6 +141,7 @@ class HeatSolver:
         heat = self._heat_step(ops)
         self._gradient_transposed = ops.gradient.T  # a view: -div X = G^T (volumes * X)
         self._exponent = output_exponent(ops.unit_exponent)
+        self._unreferenced = np.flatnonzero(np.asarray(domain.output_vertices) < 0)  # input vertices no element uses
         self.timings["setup"] = time.perf_counter() - start
         if deferred:
             self.factors.defer(heat, progress)
@@ -293,10 +294,8 @@ class HeatSolver:
         rows = np.empty((len(block), outputs.size))
         for chunk in self._chunks(block, max_memory_mb):
             phi = self._distances_from_pins([block[j] for j in chunk])  # (n, k), columns contiguous
-            extended = np.empty((len(chunk), phi.shape[0] + 1))
-            extended[:, :-1] = phi.T
-            extended[:, -1] = np.inf  # index -1 (unreferenced) reads inf
-            rows[chunk] = extended[:, outputs]
+            rows[chunk] = phi.T[:, outputs]
+        rows[:, self._unreferenced] = np.inf  # they read index -1 above
         for row, source in zip(rows, sources):
             bounds = self._block_source_bounds(source, many=len(sources) > 1)
             if bounds is not None:

@@ -177,7 +177,8 @@ def _with_twins(op, vertices, values=None):
     if op is None:
         order = np.lexsort((values, vertices))  # by vertex, its smallest value first
         vertices, values = vertices[order], values[order]
-        first = np.r_[True, vertices[1:] != vertices[:-1]] & (values < np.inf)
+        first = values < np.inf
+        first[1:] &= vertices[1:] != vertices[:-1]
         return vertices[first], values[first]
     best = np.full(op.size + 1, np.inf)  # by operator vertex; index -1 (unreferenced) stays inf
     np.minimum.at(best, op[vertices], values)
