@@ -48,7 +48,7 @@ from .intrinsic import (
     triangle_slack,
 )
 from .operators import Operators, laplacian_from_weights
-from .parts import part_extremes, part_means
+from .parts import part_extremes, part_means, row_reduce
 
 #: Smallest slack ``l_a + l_b - l_c`` (relative to the mean edge length) that
 #: :func:`intrinsic_operators` asks of every triangle by default (mollification).
@@ -277,7 +277,7 @@ def intrinsic_operators(
     tri, eps, n_flips = triangulate(MOLLIFY_SLACK)
     thin_parts = np.zeros(0, np.int64)
     if thin_slack is not None:
-        slack = triangle_slack(tri.lengths).min(axis=1)
+        slack = row_reduce(np.minimum, triangle_slack(tri.lengths))
         least = part_extremes(slack, face_part, n_parts) if face_part is not None else np.array([slack.min()])
         thin_parts = np.flatnonzero(least < thin_slack)  # flips keep parts
         if thin_parts.size:
