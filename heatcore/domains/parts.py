@@ -348,7 +348,7 @@ def row_norms(D):
     """
     D = np.asarray(D, dtype=float).reshape(-1, np.shape(D)[-1])
     norms = np.sqrt(np.einsum("ij,ij->i", D, D))
-    largest = np.abs(D).max(axis=1, initial=0.0)
+    largest = row_reduce(np.maximum, np.abs(D))
     odd = np.flatnonzero(~((largest > 1e-150) & (largest < 1e150)))  # squares that would under- or overflow
     if odd.size:
         exponent = np.frexp(np.where(largest[odd] > 0, largest[odd], 1.0))[1]
