@@ -106,13 +106,13 @@ def vertex_components(elements, n, graph=None):
     >>> vertex_components(np.array([[0, 1, 2]]), 4)[0]
     2
     """
-    if graph is None:  # a star per element, one way: weak components need no mirrored copy
-        k = elements.shape[1]
-        rows = np.repeat(elements[:, 0], k - 1)
-        graph = sp.csr_matrix((np.ones(rows.size), (rows, elements[:, 1:].ravel())), shape=(n, n))
-    # Each part is numbered by its smallest vertex, whatever graph joins them.
+    if graph is None:  # vertices, then one node per element joined to its corners: a CSR graph with no sorting
+        m, k = elements.shape
+        indptr = np.concatenate([np.zeros(n + 1, dtype=np.int64), np.arange(k, k * m + 1, k)])
+        graph = sp.csr_matrix((np.ones(k * m), elements.ravel(), indptr), shape=(n + m, n + m))
+    # Each part is numbered by its smallest vertex, whatever graph joins them (an element node is never alone).
     count, part = connected_components(graph, directed=True, connection="weak")
-    return int(count), part
+    return int(count), part[:n].copy()
 
 
 def elements_in_parts_of(n, owner, corners, vertices):
