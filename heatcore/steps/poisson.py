@@ -159,6 +159,9 @@ class PinnedPoisson:
         """Make the grounded solution ``psi`` take the values ``d`` at the pins ``P`` (in place); returns ``psi``."""
         # One pin in a component: a shift. Several: point loads mu at its pins and a constant,
         # one small dense system per component, so that no rounding crosses parts.
+        if P.size == 1 and self.n_components == 1:  # the shift of _pin_loads, without its bookkeeping
+            psi += d[0] - psi[P[0]]
+            return psi
         several = self._several(P)
         Z = self.unit_responses(P[several]) if several.size else None
         mu, shift = self._pin_loads(psi[P], None if Z is None else Z[P[several]], P, d, several)
