@@ -247,6 +247,22 @@ class SparseForwardSolver:
                 supernode = self._parent[supernode]
         return sorted(visited)
 
+    def unpermute(self, y):
+        """``P^T y``: the ``x`` with ``x[permutation] = y``, by a gather (twice as fast as that scatter).
+
+        Examples
+        --------
+        >>> from heatcore import linalg
+        >>> import scipy.sparse as sp
+        >>> solver = linalg.factor(sp.diags(np.arange(1.0, 6.0)).tocsc(), "supernodal")._sparse_forward
+        >>> y = np.arange(5.0)
+        >>> x = np.empty(5)
+        >>> x[solver.permutation] = y
+        >>> bool((solver.unpermute(y) == x).all())
+        True
+        """
+        return y[self._position]
+
     def forward(self, b):
         """``L^{-1} P b`` for a right-hand side with few nonzeros, or None where a dense solve is faster.
 

@@ -243,9 +243,7 @@ class SupernodalFactor(Factor):
             if y is not None:  # the backward half, L^T x = y, then x -> P^T x
                 Y = cvxopt.matrix(y)
                 cvxopt.cholmod.solve(self._factor, Y, sys=CHOLMOD_LT)
-                x = np.empty(self.n)
-                x[self._sparse_forward.permutation] = np.asarray(Y).ravel()
-                return x
+                return self._sparse_forward.unpermute(np.asarray(Y).ravel())
         B = cvxopt.matrix(np.asfortranarray(b.reshape(self.n, -1)))
         cvxopt.cholmod.solve(self._factor, B)
         return np.array(B).reshape(b.shape)
