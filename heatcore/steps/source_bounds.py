@@ -131,7 +131,8 @@ def source_bounds(domain, component, vertices, kinds):
     # Without welded twins, _with_twins sorts the few vertices it is given: no pass over every vertex.
     op = output if domain.derived.get_or_build(("welded twins", None), lambda: has_twins(output)) else None
     sources = _with_twins(op, given)[0] if given.size else given  # a welded twin is the source too
-    near, lengths = _with_twins(op, *domain.straight_neighbours(sources))
+    around, lengths = domain.straight_neighbours(sources)
+    near, lengths = _with_twins(op, around, lengths)
     points, part, seeds = [X[given]], [component[output[given]]], [sources]
     if "points" in kinds:
         corners = domain.point_corners(kinds["points"])
@@ -140,8 +141,9 @@ def source_bounds(domain, component, vertices, kinds):
         seeds.append(corners.ravel())
     points, part = np.concatenate(points), np.concatenate(part)
     ring = _with_twins(op, np.unique(np.concatenate(seeds)))[0]
-    for _ in range(RINGS):
-        ring = _with_twins(op, np.union1d(ring, domain.straight_neighbours(ring)[0]))[0]
+    for level in range(RINGS):  # the first ring of vertex sources is the one found above
+        reached = around if level == 0 and np.array_equal(ring, sources) else domain.straight_neighbours(ring)[0]
+        ring = _with_twins(op, np.union1d(ring, reached))[0]
     other = {k: v for k, v in kinds.items() if k != "points"}
     if other:  # an edge or a region: its points are not listed, so its part gets no lower bound
         blocked = component[domain.source_pins(None, **other).vertices]
