@@ -91,7 +91,7 @@ class HeatSolver:
     m_effective : float
         The largest of ``part_m``.
     hop_diameter : int
-        Edge hops across the widest component (double-sweep estimate).
+        Edge hops across the widest component (double-sweep estimate, on first use).
     n_components : int
         Connected components of the domain.
     component : (n,) int array
@@ -140,6 +140,8 @@ class HeatSolver:
 
         heat = self._heat_step(ops)
         self._gradient_transposed = ops.gradient.T  # a view: -div X = G^T (volumes * X)
+        self._exponent = output_exponent(ops.unit_exponent)
+        self._unreferenced = np.flatnonzero(np.asarray(domain.output_vertices) < 0)  # input vertices no element uses
         self.timings["setup"] = time.perf_counter() - start
         if deferred:
             self.factors.defer(heat, progress)
@@ -158,9 +160,12 @@ class HeatSolver:
         graph = edge_graph(ops.elements, n)
         parts = ops.parts if ops.parts is not None else vertex_components(ops.elements, n, graph)
         self.n_components, self.component = parts
-        hops = hop_diameters(graph, self.component, self.n_components)
+        # The first sweep's bounds are enough where they need no larger m (underflow_safe_m grows with the hops).
+        hops = hop_diameters(graph, self.component, self.n_components, bounds=True)
+        self._hops = None
+        if (underflow_safe_m(hops) > self.m).any():
+            hops = self._hops = hop_diameters(graph, self.component, self.n_components)
         del graph
-        self.hop_diameter = int(hops.max())
         self.part_m = np.maximum(self.m, underflow_safe_m(hops))
         self.m_effective = float(self.part_m.max())
         if self.m_effective > self.m:
@@ -174,6 +179,15 @@ class HeatSolver:
             self.t = np.ldexp(step[ground], 2 * np.broadcast_to(ops.unit_exponent, (n,))[ground])
         time_step = step[0] if (step == step[0]).all() else step
         return HeatStep(time_step, self.boundary, self.component, self.n_components, ground)
+
+    @property
+    def hop_diameter(self):
+        """Edge hops across the widest component (double-sweep estimate; swept on first use where the time step
+        did not need it)."""
+        if self._hops is None:
+            n = self.ops.n_vertices
+            self._hops = hop_diameters(edge_graph(self.ops.elements, n), self.component, self.n_components)
+        return int(self._hops.max())
 
     @property
     def heat_flow(self):
@@ -280,10 +294,8 @@ class HeatSolver:
         rows = np.empty((len(block), outputs.size))
         for chunk in self._chunks(block, max_memory_mb):
             phi = self._distances_from_pins([block[j] for j in chunk])  # (n, k), columns contiguous
-            extended = np.empty((len(chunk), phi.shape[0] + 1))
-            extended[:, :-1] = phi.T
-            extended[:, -1] = np.inf  # index -1 (unreferenced) reads inf
-            rows[chunk] = extended[:, outputs]
+            rows[chunk] = phi.T[:, outputs]
+        rows[:, self._unreferenced] = np.inf  # they read index -1 above
         for row, source in zip(rows, sources):
             bounds = self._block_source_bounds(source, many=len(sources) > 1)
             if bounds is not None:
@@ -378,8 +390,7 @@ class HeatSolver:
             for j, pins in enumerate(block):
                 hit[self.component[pins.vertices], j] = True
             phi[~hit[self.component]] = np.inf
-        exponent = self.ops.unit_exponent
-        return np.ldexp(phi, exponent[:, None] if np.ndim(exponent) else exponent)
+        return phi if self._exponent is None else np.ldexp(phi, self._exponent)
 
     def nearest_source(self, sources, *, return_distance=False, max_memory_mb=None):
         """The index (into ``sources``) of the nearest source at every vertex: :func:`heatcore.voronoi.nearest_source`."""
@@ -490,3 +501,18 @@ class HeatSolver:
     def unit_field(self, u):
         """``-grad u / |grad u|`` per element, 0 where the gradient vanishes or is not finite (see :mod:`heatcore.steps.unit_field`)."""
         return unit_field(self.ops, u, 1.0, self._element_h)
+
+
+def output_exponent(unit_exponent):
+    """What ``np.ldexp`` takes to bring ``(n, k)`` distances from the operators' units to the input's: a column
+    ``(n, 1)``, one number where every vertex has the same unit, or None where that is the input's own.
+
+    Examples
+    --------
+    >>> output_exponent(np.zeros(3, int)) is None, output_exponent(np.full(3, 2)), output_exponent(np.arange(2)).shape
+    (True, 2, (2, 1))
+    """
+    exponent = np.unique(unit_exponent)
+    if exponent.size > 1:
+        return np.asarray(unit_exponent)[:, None]
+    return None if exponent[0] == 0 else int(exponent[0])

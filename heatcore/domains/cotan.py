@@ -48,7 +48,7 @@ from .intrinsic import (
     triangle_slack,
 )
 from .operators import Operators, laplacian_from_weights
-from .parts import part_extremes, part_means
+from .parts import part_extremes, part_means, row_reduce
 
 #: Smallest slack ``l_a + l_b - l_c`` (relative to the mean edge length) that
 #: :func:`intrinsic_operators` asks of every triangle by default (mollification).
@@ -102,6 +102,22 @@ def triangle_operators(lengths, faces, n_vertices, boundary, mean_edge_length, u
     columns = np.repeat(faces[:, None, :].astype(index), 2, axis=1).ravel()
     G = sp.csr_matrix((grad_hat.ravel(), columns, np.arange(0, 6 * m + 1, 3, dtype=index)), shape=(2 * m, n_vertices))
     return Operators(L, mass, G, areas, 2, boundary, faces, mean_edge_length, unit_exponent)
+
+
+def segment_lengths(V, pairs):
+    """Lengths of the segments ``V[pairs[:, 0]]`` to ``V[pairs[:, 1]]``: ``np.linalg.norm(..., axis=1)``'s numbers
+    (the same sum of squares, in the same order), without its general-purpose passes.
+
+    Examples
+    --------
+    >>> segment_lengths(np.array([[0, 0, 0], [3, 4, 0]], float), np.array([[0, 1]])).tolist()
+    [5.0]
+    """
+    D = V[pairs[:, 0]] - V[pairs[:, 1]]
+    squares = D[:, 0] * D[:, 0]
+    for axis in range(1, D.shape[1]):
+        squares += D[:, axis] * D[:, axis]
+    return np.sqrt(squares, out=squares)
 
 
 class IntrinsicOperators(NamedTuple):
@@ -223,7 +239,7 @@ def intrinsic_operators(
         open_edges = open_edges[rim[open_edges].all(axis=1)]
     boundary = np.zeros(n, dtype=bool)
     boundary[open_edges.ravel()] = True
-    edge_lengths = np.linalg.norm(V[edges[:, 0]] - V[edges[:, 1]], axis=1)
+    edge_lengths = segment_lengths(V, edges)
     if part is None:
         h = float(edge_lengths.mean())
         face_part, face_h, vertex_h = None, h, h
@@ -261,7 +277,7 @@ def intrinsic_operators(
     tri, eps, n_flips = triangulate(MOLLIFY_SLACK)
     thin_parts = np.zeros(0, np.int64)
     if thin_slack is not None:
-        slack = triangle_slack(tri.lengths).min(axis=1)
+        slack = row_reduce(np.minimum, triangle_slack(tri.lengths))
         least = part_extremes(slack, face_part, n_parts) if face_part is not None else np.array([slack.min()])
         thin_parts = np.flatnonzero(least < thin_slack)  # flips keep parts
         if thin_parts.size:

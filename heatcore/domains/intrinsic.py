@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .parts import part_extremes, part_means
+from .parts import part_extremes, part_means, row_reduce
 from .refine import unique_edges
 
 NEXT = np.array([1, 2, 0])
@@ -144,7 +144,7 @@ def mollify(lengths, relative_delta=1e-6, part=None, n_parts=1):
         eps = max(0.0, float(delta - slack.min()))
         return lengths + eps, eps
     delta = relative_delta * part_means(lengths.ravel(), np.repeat(part, 3), n_parts)
-    least = part_extremes(slack.min(axis=1), part, n_parts)
+    least = part_extremes(row_reduce(np.minimum, slack), part, n_parts)
     eps = np.maximum(0.0, np.where(np.isfinite(least), delta - least, 0.0))
     return lengths + eps[part][:, None], eps
 

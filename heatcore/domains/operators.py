@@ -5,6 +5,7 @@ to the same five objects, and the heat method in :mod:`heatcore.heat` is
 written once against them.
 """
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -70,6 +71,18 @@ class Operators:
     unit_exponent: object = 0
     boundary_surface: object = None
     parts: object = None
+
+    @functools.cached_property
+    def first_corners(self):
+        """``elements[:, 0]`` as a contiguous array of its own: the unit field reads it every query.
+
+        Examples
+        --------
+        >>> from heatcore import TriangleMesh
+        >>> TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0).operators.first_corners.tolist()
+        [0]
+        """
+        return np.ascontiguousarray(self.elements[:, 0])
 
     @property
     def n_vertices(self):

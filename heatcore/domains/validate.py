@@ -12,6 +12,7 @@ import warnings
 import numpy as np
 
 from ..errors import HeatcoreWarning, InvalidMeshError
+from .parts import row_reduce
 
 
 def vertex_array(V, name="V"):
@@ -47,7 +48,7 @@ def vertex_array(V, name="V"):
         raise InvalidMeshError(f"{name} is empty: the mesh has no vertices")
     if V.shape[1] == 2:
         V = np.column_stack([V, np.zeros(V.shape[0])])
-    bad = ~np.isfinite(V).all(axis=1)
+    bad = ~row_reduce(np.logical_and, np.isfinite(V))
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
         raise InvalidMeshError(
@@ -207,7 +208,7 @@ def clean_elements(E, element="face", stacklevel=3):
     unique = np.ones(E.shape[0], dtype=bool)
     if _may_have_duplicate_rows(S):
         order = np.lexsort(S.T[::-1])
-        same_as_previous = np.r_[False, (S[order[1:]] == S[order[:-1]]).all(axis=1)]
+        same_as_previous = np.r_[False, row_reduce(np.logical_and, S[order[1:]] == S[order[:-1]])]
         unique[order[same_as_previous]] = False
     kept = unique & ~repeated
     n_rep, n_dup = int(repeated.sum()), int((~unique & ~repeated).sum())

@@ -111,7 +111,8 @@ def canonical_csr(A):
     >>> canonical_csr(A).toarray().tolist()
     [[0.0, 3.0], [0.0, 0.0]]
     """
-    A = sp.csr_matrix(A)
+    if not (sp.issparse(A) and A.format == "csr"):  # a CSR matrix is taken as it is: a new wrapper costs its checks
+        A = sp.csr_matrix(A)
     if not A.has_canonical_format:
         A = A.copy()
         A.sum_duplicates()

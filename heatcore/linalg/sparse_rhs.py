@@ -44,8 +44,11 @@ from .libraries import count_fast_path, once, version_is_known, warn_once
 #: What a reader of a foreign factor may raise where the factor is not one it can read.
 _UNREADABLE = (ValueError, TypeError, IndexError, OverflowError, ctypes.ArgumentError)
 
-#: Above this many nonzeros a right-hand side is treated as dense.
+#: Above this many nonzeros a right-hand side is treated as dense...
 MAX_NONZEROS = 10_000
+#: ...or above this share of its entries (the Poisson step's right-hand side:
+#: a factor that sees only such ones is never read, see :func:`is_sparse`).
+MAX_NONZERO_SHARE = 0.5
 #: A sparse forward solve gives up (and the caller solves densely) once the
 #: supernodes it must visit hold this share of the factor's entries...
 MAX_FACTOR_SHARE = 0.5
@@ -107,6 +110,17 @@ def _decline(reason, detail):
         reason,
         detail,
     )
+
+
+def is_sparse(b):
+    """Whether a right-hand side ``b`` (n,) has few enough nonzeros for :meth:`SparseForwardSolver.forward` to try.
+
+    Examples
+    --------
+    >>> is_sparse(np.array([0.0, 1.0, 0.0])), is_sparse(np.ones(3))
+    (True, False)
+    """
+    return np.count_nonzero(b) <= min(MAX_NONZEROS, MAX_NONZERO_SHARE * b.size)
 
 
 class SparseForwardSolver:
@@ -233,6 +247,22 @@ class SparseForwardSolver:
                 supernode = self._parent[supernode]
         return sorted(visited)
 
+    def unpermute(self, y):
+        """``P^T y``: the ``x`` with ``x[permutation] = y``, by a gather (twice as fast as that scatter).
+
+        Examples
+        --------
+        >>> from heatcore import linalg
+        >>> import scipy.sparse as sp
+        >>> solver = linalg.factor(sp.diags(np.arange(1.0, 6.0)).tocsc(), "supernodal")._sparse_forward
+        >>> y = np.arange(5.0)
+        >>> x = np.empty(5)
+        >>> x[solver.permutation] = y
+        >>> bool((solver.unpermute(y) == x).all())
+        True
+        """
+        return y[self._position]
+
     def forward(self, b):
         """``L^{-1} P b`` for a right-hand side with few nonzeros, or None where a dense solve is faster.
 
@@ -253,7 +283,7 @@ class SparseForwardSolver:
         >>> solver.forward(np.array([0.0, 0.0, 2.0, 0.0, 0.0]))[solver.permutation == 2]  # L = 2 I
         array([1.])
         """
-        if np.count_nonzero(b) > MAX_NONZEROS:
+        if not is_sparse(b):
             return None
         nonzero = np.flatnonzero(b)
         columns = self._position[nonzero]

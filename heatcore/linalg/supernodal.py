@@ -22,6 +22,7 @@ True
 """
 
 import contextlib
+import functools
 import threading
 
 import numpy as np
@@ -32,7 +33,7 @@ from .backends import SUPERNODAL_MIN_SIZE
 from .interface import Factor, canonical_csr
 from .libraries import optional
 from .memory import release_free_memory
-from .sparse_rhs import SparseForwardSolver
+from .sparse_rhs import SparseForwardSolver, is_sparse
 
 #: CHOLMOD's codes of the systems ``L x = b``, ``L^T x = b``, ``x = P b``, ``x = P^T b`` (``cholmod.solve``'s ``sys``).
 CHOLMOD_L, CHOLMOD_LT, CHOLMOD_P, CHOLMOD_PT = 4, 5, 7, 8
@@ -195,7 +196,17 @@ class SupernodalFactor(Factor):
             raise SolverError(f"sparse Cholesky factorization failed: the matrix is not positive definite ({exc})") from exc
         except ValueError as exc:
             raise SolverError(f"sparse Cholesky factorization failed: {exc}") from exc
-        self._sparse_forward = SparseForwardSolver.from_cvxopt(self._factor, self.n)
+
+    @functools.cached_property
+    def _sparse_forward(self):
+        """The :class:`~heatcore.linalg.sparse_rhs.SparseForwardSolver` over this factor (None where it cannot
+        read it), made on the first sparse right-hand side: a factor that only ever sees dense ones (the
+        Poisson step's) never pays for reading its supernodes."""
+        return SparseForwardSolver.from_cvxopt(self._factor, self.n)
+
+    def _sparse_enough(self, b):
+        """Whether ``b`` (n,) may take the sparse forward solve (which may still decline it)."""
+        return is_sparse(b) and self._sparse_forward is not None
 
     def forward(self, b):
         """The first half of a solve, ``y = L^-1 P b`` for one right-hand side (sparse ones by the sparse path).
@@ -208,7 +219,7 @@ class SupernodalFactor(Factor):
         True
         """
         b = np.asarray(b, dtype=np.float64).reshape(self.n)
-        if self._sparse_forward is not None:
+        if self._sparse_enough(b):
             y = self._sparse_forward.forward(b)
             if y is not None:
                 return y
@@ -227,14 +238,12 @@ class SupernodalFactor(Factor):
 
     def _solve(self, b):
         cvxopt = _cvxopt()
-        if b.ndim == 1 and self._sparse_forward is not None:
+        if b.ndim == 1 and self._sparse_enough(b):
             y = self._sparse_forward.forward(b)  # None unless b is sparse enough to pay
             if y is not None:  # the backward half, L^T x = y, then x -> P^T x
                 Y = cvxopt.matrix(y)
                 cvxopt.cholmod.solve(self._factor, Y, sys=CHOLMOD_LT)
-                x = np.empty(self.n)
-                x[self._sparse_forward.permutation] = np.asarray(Y).ravel()
-                return x
+                return self._sparse_forward.unpermute(np.asarray(Y).ravel())
         B = cvxopt.matrix(np.asfortranarray(b.reshape(self.n, -1)))
         cvxopt.cholmod.solve(self._factor, B)
         return np.array(B).reshape(b.shape)

@@ -56,10 +56,14 @@ def grounded(L, ground):
     K.sum_duplicates()
     is_ground = np.zeros(K.shape[0], dtype=bool)
     is_ground[ground] = True
-    rows = np.repeat(np.arange(K.shape[0]), np.diff(K.indptr))
-    K.data[is_ground[rows] | is_ground[K.indices]] = 0.0
-    on_ground_diagonal = (rows == K.indices) & is_ground[rows]
-    if on_ground_diagonal.sum() == ground.size:
+    # The entries of the ground rows, found from their row pointers (not by a row index per entry).
+    counts = np.diff(K.indptr)[ground]
+    before = np.concatenate(([0], np.cumsum(counts)[:-1]))
+    in_rows = np.repeat(K.indptr[ground] - before, counts) + np.arange(counts.sum())
+    K.data[is_ground[K.indices]] = 0.0
+    K.data[in_rows] = 0.0
+    on_ground_diagonal = in_rows[K.indices[in_rows] == np.repeat(ground, counts)]
+    if on_ground_diagonal.size == ground.size:
         K.data[on_ground_diagonal] = 1.0
         return K
     return (K + sp.diags(is_ground.astype(float))).tocsr()  # a ground without a diagonal entry
@@ -159,6 +163,9 @@ class PinnedPoisson:
         """Make the grounded solution ``psi`` take the values ``d`` at the pins ``P`` (in place); returns ``psi``."""
         # One pin in a component: a shift. Several: point loads mu at its pins and a constant,
         # one small dense system per component, so that no rounding crosses parts.
+        if P.size == 1 and self.n_components == 1:  # the shift of _pin_loads, without its bookkeeping
+            psi += d[0] - psi[P[0]]
+            return psi
         several = self._several(P)
         Z = self.unit_responses(P[several]) if several.size else None
         mu, shift = self._pin_loads(psi[P], None if Z is None else Z[P[several]], P, d, several)

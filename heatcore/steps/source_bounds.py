@@ -126,27 +126,29 @@ def source_bounds(domain, component, vertices, kinds):
     ([0, 1, 2], [0.0, 1.414, 1.414], [])
     """
     kinds = {k: v for k, v in source_keywords(kinds, stacklevel=5).items() if v is not None}
-    X, op = domain.input_positions, np.asarray(domain.output_vertices)
+    X, output = domain.input_positions, np.asarray(domain.output_vertices)
     given = np.zeros(0, dtype=np.int64) if vertices is None else index_list(vertices, X.shape[0], "vertex")
-    is_source = np.zeros(op.size + 1, dtype=bool)  # by operator vertex: a welded twin is the source too
-    is_source[op[given]] = True
-    sources = np.flatnonzero(is_source[op]) if given.size else given
-    near, lengths = _with_twins(op, *domain.straight_neighbours(sources))
-    points, part, seeds = [X[given]], [component[op[given]]], [sources]
+    # Without welded twins, _with_twins sorts the few vertices it is given: no pass over every vertex.
+    op = output if domain.derived.get_or_build(("welded twins", None), lambda: has_twins(output)) else None
+    sources = _with_twins(op, given)[0] if given.size else given  # a welded twin is the source too
+    around, lengths = domain.straight_neighbours(sources)
+    near, lengths = _with_twins(op, around, lengths)
+    points, part, seeds = [X[given]], [component[output[given]]], [sources]
     if "points" in kinds:
         corners = domain.point_corners(kinds["points"])
         points.append(domain.point_positions(kinds["points"]))
-        part.append(component[op[corners[:, 0]]])
+        part.append(component[output[corners[:, 0]]])
         seeds.append(corners.ravel())
     points, part = np.concatenate(points), np.concatenate(part)
     ring = _with_twins(op, np.unique(np.concatenate(seeds)))[0]
-    for _ in range(RINGS):
-        ring = _with_twins(op, np.union1d(ring, domain.straight_neighbours(ring)[0]))[0]
+    for level in range(RINGS):  # the first ring of vertex sources is the one found above
+        reached = around if level == 0 and np.array_equal(ring, sources) else domain.straight_neighbours(ring)[0]
+        ring = _with_twins(op, np.union1d(ring, reached))[0]
     other = {k: v for k, v in kinds.items() if k != "points"}
     if other:  # an edge or a region: its points are not listed, so its part gets no lower bound
         blocked = component[domain.source_pins(None, **other).vertices]
-        ring = ring[~np.isin(component[op[ring]], blocked)]
-    ring_part = component[op[ring]]
+        ring = ring[~np.isin(component[output[ring]], blocked)]
+    ring_part = component[output[ring]]
     lower = np.empty(ring.size)
     for p in np.unique(ring_part):
         here = ring_part == p
@@ -154,10 +156,32 @@ def source_bounds(domain, component, vertices, kinds):
     return SourceBounds(ring, lower, near, lengths)
 
 
+def has_twins(op):
+    """Whether two input vertices share an operator vertex ``op`` (-1: a vertex no element uses, which is
+    never a source nor a straight neighbour, so never a twin).
+
+    Examples
+    --------
+    >>> has_twins(np.array([0, 1, 2])), has_twins(np.array([0, 1, 0])), has_twins(np.array([0, -1, -1]))
+    (False, True, False)
+    """
+    return bool(np.bincount(op[op >= 0]).max(initial=0) > 1)
+
+
 def _with_twins(op, vertices, values=None):
     """``vertices`` and every input vertex welded to one of them (the same operator vertex), with the
-    smallest of their ``values``: welded copies (an OBJ seam, an STL soup) read one distance."""
+    smallest of their ``values``: welded copies (an OBJ seam, an STL soup) read one distance.
+
+    ``op``: the operator vertex of each input vertex, or None where no two share one (:func:`has_twins`
+    false): then only the given vertices are sorted, the same result without a pass over every vertex.
+    """
     values = np.zeros(vertices.size) if values is None else values
+    if op is None:
+        order = np.lexsort((values, vertices))  # by vertex, its smallest value first
+        vertices, values = vertices[order], values[order]
+        first = values < np.inf
+        first[1:] &= vertices[1:] != vertices[:-1]
+        return vertices[first], values[first]
     best = np.full(op.size + 1, np.inf)  # by operator vertex; index -1 (unreferenced) stays inf
     np.minimum.at(best, op[vertices], values)
     reached = best[op]

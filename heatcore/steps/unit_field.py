@@ -37,8 +37,9 @@ def squared_norms(g):
     [25.0, 4.0]
     """
     norm2 = g[0] * g[0]
+    square = np.empty_like(norm2) if len(g) > 1 else None  # one scratch array for every component
     for component in g[1:]:
-        norm2 += component * component
+        norm2 += np.multiply(component, component, out=square)
     return norm2
 
 
@@ -71,11 +72,11 @@ def scale_to_unit(g, u_first, weights, element_h):
     if not np.isfinite(norm2.sum()):  # rare: a non-finite gradient gets no direction
         g = np.where(np.isfinite(g), g, 0.0)
         norm2 = squared_norms(g)
-    norm = np.sqrt(norm2)
     # Far from the sources u (and so g) can be 1e-200, whose square
     # underflows: recompute those norms with hypot, which does not.
-    tiny = np.nonzero(norm2 < 1e-280)
-    if tiny[0].size:
+    tiny = np.nonzero(norm2 < 1e-280) if norm2.size and norm2.min() < 1e-280 else None
+    norm = np.sqrt(norm2, out=norm2)
+    if tiny is not None:
         redo = np.hypot(g[0][tiny], g[1][tiny])
         for axis in range(2, len(g)):
             redo = np.hypot(redo, g[axis][tiny])
@@ -84,8 +85,9 @@ def scale_to_unit(g, u_first, weights, element_h):
     # of a symmetric part: 2e-15 of u per edge length there, 5e-3 and more elsewhere) has no
     # direction: X = 0 there, not a direction made of rounding noise that any change of
     # elimination order (another part beside it) would turn elsewhere.
-    norm[norm * element_h < SADDLE_GRADIENT * u_first] = np.inf
-    scale = np.negative(weights) / norm
+    scale = np.multiply(norm, element_h)  # a scratch array, then the scale
+    np.putmask(norm, scale < SADDLE_GRADIENT * u_first, np.inf)
+    np.negative(np.divide(weights, norm, out=scale), out=scale)  # -(w / |g|) is (-w) / |g|, bit for bit
     for component in g:  # axis by axis: 3x faster than broadcasting over rows of 2 or 3
         component *= scale
     return g
@@ -103,7 +105,7 @@ def unit_field(ops, u, weights, element_h):
     ((1, 2), 1.0)
     """
     g = (ops.gradient @ u).reshape(-1, ops.dim)
-    return scale_to_unit(g.T, u[ops.elements[:, 0]], weights, element_h).T
+    return scale_to_unit(g.T, u[ops.first_corners], weights, element_h).T
 
 
 def minus_divergence(ops, gradient_transposed, u, element_h):
@@ -149,7 +151,7 @@ def minus_divergence_columns(ops, gradient_transposed, u, element_h):
     True
     """
     n, k = u.shape
-    gradient, first, dim = ops.gradient, ops.elements[:, 0], ops.dim
+    gradient, first, dim = ops.gradient, ops.first_corners, ops.dim
     b = np.empty((n, k), order="F")
     width = tile_columns(ops)
     for start in range(0, k, width):
