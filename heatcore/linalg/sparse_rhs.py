@@ -120,7 +120,7 @@ def is_sparse(b):
     >>> is_sparse(np.array([0.0, 1.0, 0.0])), is_sparse(np.ones(3))
     (True, False)
     """
-    return np.count_nonzero(b) <= min(MAX_NONZEROS, MAX_NONZERO_SHARE * b.size)
+    return bool(np.count_nonzero(b) <= min(MAX_NONZEROS, MAX_NONZERO_SHARE * b.size))
 
 
 class SparseForwardSolver:
