@@ -11,7 +11,8 @@ A domain (triangle mesh, polygon mesh, tet mesh, point cloud) supplies:
   from the kinds the domain lists in ``source_kinds`` (each kind ``k`` is a
   method ``_pin_k(value, builder)``);
 - capabilities, declared and not guessed: ``supports_high_accuracy`` and
-  :meth:`Domain.eikonal_triangles` for the ``accuracy="high"`` pass;
+  :meth:`Domain.eikonal_triangles` for the ``accuracy="high"`` pass, ``two_step_heat`` for
+  the heat method's two steps;
 - ``derived``: the one cache of what is derived from the domain
   (:class:`~heatcore.domains.derived.DerivedCache`: orderings, factors, the
   path mesh, eikonal corners, tangent frames), created on first use, so a
@@ -65,6 +66,10 @@ class Domain(ABC):
     source_kinds = ("vertices",)
     #: Whether :meth:`eikonal_triangles` gives the triangles the ``accuracy="high"`` pass sweeps.
     supports_high_accuracy = False
+    #: Whether the distance's direction is read from two heat steps (``log u_short - log u_long``,
+    #: :mod:`heatcore.steps.time_step`) rather than one: surfaces (measured better on every mesh of
+    #: docs/polygon.md's table and the shared ones); not tet meshes (a convex cube 0.0096 -> 0.019).
+    two_step_heat = False
     #: True: unit heat once per source vertex however often it is named; False: heat adds up.
     unit_heat_once = False
 

@@ -340,6 +340,7 @@ class PolygonMesh(MeshDomain):
     domain_name = "polygon mesh"
     source_kinds = ("vertices", "edges", "region")
     unit_heat_once = True
+    two_step_heat = True
 
     #: The options of :class:`~heatcore.settings.MeshSettings` this domain takes.
     mesh_options = ("refine",)

@@ -148,6 +148,7 @@ class TriangleMesh(MeshDomain):
     domain_name = "triangle mesh"
     source_kinds = ("vertices", "edges", "region", "points")
     supports_high_accuracy = True
+    two_step_heat = True
 
     #: The options of :class:`~heatcore.settings.MeshSettings` this domain takes.
     mesh_options = ("robust", "refine", "weld")
