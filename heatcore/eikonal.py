@@ -116,17 +116,26 @@ def corner_layout(faces, lengths):
         first = order[np.r_[True, (np.diff(faces[order], axis=0) != 0).any(axis=1)]]
     faces, lengths = faces[first], lengths[first]
     C, A, B = faces.ravel(), faces[:, NEXT].ravel(), faces[:, PREV].ravel()
-    c = lengths.ravel()  # |AB|: opposite corner C
-    cb = lengths[:, NEXT].ravel()  # |CB|: opposite corner A
-    ca = lengths[:, PREV].ravel()  # |CA|: opposite corner B
+    # The five rows are computed in place in the returned array: at 1M vertices each temporary is 70 MB.
+    layout = np.empty((5, C.size))
+    c, x, y, ca, cb = layout
+    c[:] = lengths.ravel()  # |AB|: opposite corner C
+    np.take(lengths, NEXT, axis=1, out=cb.reshape(-1, 3))  # |CB|: opposite corner A
+    np.take(lengths, PREV, axis=1, out=ca.reshape(-1, 3))  # |CA|: opposite corner B
     with np.errstate(divide="ignore", invalid="ignore"):
-        x = (ca * ca - cb * cb + c * c) / (2.0 * c)
-        y = np.sqrt(np.maximum(ca * ca - x * x, 0.0))
+        np.multiply(ca, ca, out=x)  # x = (ca^2 - cb^2 + c^2) / 2c, in this order
+        x -= cb * cb
+        x += c * c
+        x /= 2.0 * c
+        np.multiply(ca, ca, out=y)  # y = sqrt(max(ca^2 - x^2, 0))
+        y -= x * x
+        np.maximum(y, 0.0, out=y)
+        np.sqrt(y, out=y)
     bad = (A == C) | (B == C) | (A == B) | ~(y > 0) | ~(c > 0) | ~np.isfinite(x)
-    c = np.where(bad, np.nan, c)
-    ca = np.where(A == C, np.inf, ca)
-    cb = np.where(B == C, np.inf, cb)
-    return C, A, B, np.stack([c, x, y, ca, cb])
+    c[bad] = np.nan
+    ca[A == C] = np.inf
+    cb[B == C] = np.inf
+    return C, A, B, layout
 
 
 class CornerTable:
