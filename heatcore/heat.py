@@ -1,9 +1,10 @@
 """The heat method, written once over the operator bundle of any domain.
 
-1. heat flow ``(M + t L) u = delta`` for ``t = m h^2``; on surfaces (``domain.two_step_heat``)
-   for a short and a long step, 2t and 8t (:mod:`heatcore.steps.time_step`). Robin boundary
-   conditions by default: the mean of the Neumann and Dirichlet solutions;
-2. unit field ``X = -grad u / |grad u|`` per element; on surfaces ``u`` is
+1. heat flow ``(M + t L) u = delta`` for ``t = m h^2``; on a surface's refined parts
+   (``domain.two_step_vertices()``) for a short and a long step, 2t and 8t
+   (:mod:`heatcore.steps.time_step`). Robin boundary conditions by default: the mean of the
+   Neumann and Dirichlet solutions;
+2. unit field ``X = -grad u / |grad u|`` per element; on refined parts ``u`` is
    ``log u_short - log u_long``, linear in the distance up to a constant
    (:func:`heatcore.steps.unit_field.log_ratio`);
 3. Poisson equation ``L phi = -div X`` with every source pinned to its known
@@ -186,7 +187,11 @@ class HeatSolver:
         with np.errstate(over="ignore", under="ignore"):  # a part at 1e200 has t = 1e400: inf in float64, as reported
             self.t = np.ldexp(step[ground], 2 * np.broadcast_to(ops.unit_exponent, (n,))[ground])
         time_step = step[0] if (step == step[0]).all() else step
-        multiples = (SHORT_STEP, LONG_STEP) if self.domain.two_step_heat else (1.0,)
+        self._two_step = two_step = self.domain.two_step_vertices()
+        if two_step is None:
+            multiples = (1.0,)
+        else:  # a mask: the parts left unrefined keep one step of t (their short step), as if alone
+            multiples = (SHORT_STEP if two_step is True else np.where(two_step, SHORT_STEP, 1.0), LONG_STEP)
         return HeatStep(time_step, self.boundary, self.component, self.n_components, ground, multiples)
 
     @property
@@ -512,16 +517,21 @@ class HeatSolver:
 
     def heat(self, impulse):
         """Heat after one backward Euler step from ``impulse`` ((n,), or (n, k): k columns at once): of length ``t``,
-        or on surfaces (``domain.two_step_heat``) the short step ``SHORT_STEP t`` (:mod:`heatcore.steps.time_step`)."""
+        or on refined parts (``domain.two_step_vertices()``) the short step ``SHORT_STEP t``
+        (:mod:`heatcore.steps.time_step`)."""
         return self.heat_flow.solve(impulse)
 
     def _direction_field(self, impulse):
-        """The field whose gradient gives the distance's direction: the heat, or on surfaces the
+        """The field whose gradient gives the distance's direction: the heat, or on refined parts the
         :func:`~heatcore.steps.unit_field.log_ratio` of the short and the long step's heat."""
         long_flow = self.long_flow
+        u = self.heat(impulse)
         if long_flow is None:
-            return self.heat(impulse)
-        return log_ratio(self.heat(impulse), long_flow.solve(impulse))
+            return u
+        field = log_ratio(u, long_flow.solve(impulse))
+        if self._two_step is not True:  # parts left unrefined: their own heat (rows of a mask)
+            field[~self._two_step] = u[~self._two_step]
+        return field
 
     def unit_field(self, u):
         """``-grad u / |grad u|`` per element, 0 where the gradient vanishes or is not finite (see :mod:`heatcore.steps.unit_field`)."""

@@ -340,7 +340,6 @@ class PolygonMesh(MeshDomain):
     domain_name = "polygon mesh"
     source_kinds = ("vertices", "edges", "region")
     unit_heat_once = True
-    two_step_heat = True
 
     #: The options of :class:`~heatcore.settings.MeshSettings` this domain takes.
     mesh_options = ("refine",)
@@ -419,6 +418,21 @@ class PolygonMesh(MeshDomain):
         self.left_out = (*self.left_out, *mesh.left_out)
         self.part_levels, self.levels = mesh.part_levels, mesh.levels
         self.n_flips, self.thin_parts, self.mollification = mesh.n_flips, mesh.thin_parts, mesh.mollification
+
+    def two_step_vertices(self):
+        """The vertices of the refined parts: :class:`~heatcore.TriangleMesh`'s where the polygons became its
+        triangles, else every vertex once any part is refined (``virtual=True``).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+        >>> PolygonMesh(V, [[0, 1, 2, 3]], refine=0).two_step_vertices() is None
+        True
+        """
+        if self.triangles is not None:
+            return self.triangles.two_step_vertices()
+        return True if self.levels > 0 else None
 
     def _keep_parts_of(self, vertices):
         """Keep the polygons of the connected parts that hold one of ``vertices`` (all where none does)."""

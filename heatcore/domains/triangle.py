@@ -148,7 +148,6 @@ class TriangleMesh(MeshDomain):
     domain_name = "triangle mesh"
     source_kinds = ("vertices", "edges", "region", "points")
     supports_high_accuracy = True
-    two_step_heat = True
 
     #: The options of :class:`~heatcore.settings.MeshSettings` this domain takes.
     mesh_options = ("robust", "refine", "weld")
@@ -319,6 +318,21 @@ class TriangleMesh(MeshDomain):
         tri, sub = self.intrinsic, self.subdivision
         replaced = sub.faces[(tri.faces != sub.faces).any(axis=1)]
         return [tri.faces, replaced], [tri.lengths, face_edge_lengths(sub.vertices, replaced)]
+
+    def two_step_vertices(self):
+        """The vertices of the refined parts (:meth:`Domain.two_step_vertices <heatcore.domains.base.Domain.two_step_vertices>`).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> V, F = np.eye(3), [[0, 1, 2]]
+        >>> TriangleMesh(V, F, refine=0).two_step_vertices() is None, TriangleMesh(V, F, refine=1).two_step_vertices()
+        (True, True)
+        """
+        refined = self.part_levels > 0
+        if not refined.any():
+            return None
+        return True if refined.all() else refined[self.operators.parts[1]]
 
     def _element_sides(self, mark):
         hit = mark[self.faces]

@@ -63,9 +63,10 @@ class HeatStep:
     n_components : int
     ground : (n_components,) int array
         The vertex of each component held at 0 in the grounded Laplacian.
-    multiples : tuple of float
+    multiples : tuple of float or (n,) float arrays
         The heat steps to factor, in multiples of ``time_step``: ``(1.0,)``, or the short and the long
-        step of :mod:`heatcore.steps.time_step` on domains whose distance reads both (``two_step_heat``).
+        step of :mod:`heatcore.steps.time_step` where the distance reads both (a domain's refined parts,
+        ``two_step_vertices()``; per vertex where only some parts are refined).
 
     Examples
     --------
@@ -153,8 +154,9 @@ class SolverFactors:
         self._deferred = None
         start = time.perf_counter()
         shares = np.linspace(0.05, 0.7, len(heat.multiples) + 1)
-        flows = [self._factor_heat(heat, multiple, progress.part(shares[i], shares[i + 1]))
-                 for i, multiple in enumerate(heat.multiples)]
+        steps = ("",) if len(heat.multiples) == 1 else ("short step", "long step")
+        flows = [self._factor_heat(heat, multiple, step, progress.part(shares[i], shares[i + 1]))
+                 for i, (multiple, step) in enumerate(zip(heat.multiples, steps))]
         self._heat_flow, self._long_flow = flows[0], (flows[1] if len(flows) > 1 else None)
         self.timings["heat factorization"] = time.perf_counter() - start
         start = time.perf_counter()
@@ -192,8 +194,9 @@ class SolverFactors:
             self.start()
             self.build(heat, Progress(progress))
 
-    def _factor_heat(self, heat, multiple, progress):
-        """Factor ``M + multiple t L`` for the boundary condition (Neumann, interior-only Dirichlet, or both)."""
+    def _factor_heat(self, heat, multiple, step_name, progress):
+        """Factor ``M + multiple t L`` for the boundary condition (Neumann, interior-only Dirichlet, or both);
+        ``step_name`` ("short step", "long step" or "") names the step in the progress messages."""
         ops, backend = self.ops, self.heat_backend
         step = multiple * heat.time_step
         matrix = heat_matrix(ops.mass, step, ops.laplacian)
@@ -201,11 +204,13 @@ class SolverFactors:
         if heat.boundary in ("robin", "dirichlet"):
             interior = np.flatnonzero(~ops.boundary)
             if interior.size:
-                progress(0.0, "factoring the heat matrix (interior vertices, for the Dirichlet condition)")
+                which = f"{step_name}; " if step_name else ""
+                progress(0.0, f"factoring the heat matrix ({which}interior vertices, for the Dirichlet condition)")
                 ordering = restrict_ordering(self._ordering(backend), interior)
                 dirichlet = factor(matrix[interior][:, interior], backend, ordering=ordering)
         # Neumann: the condition itself, half of Robin, or the fallback where Dirichlet sees no heat.
-        progress(0.0 if dirichlet is None else 0.5, "factoring the heat matrix")
+        progress(0.0 if dirichlet is None else 0.5, f"factoring the heat matrix ({step_name})" if step_name
+                 else "factoring the heat matrix")
         neumann = factor(matrix, backend, ordering=self._ordering(backend))
         return HeatFlow(neumann, dirichlet, interior, heat.boundary, heat.component, heat.n_components,
                         BoundarySourceHeat(ops, self._laplacian, step, neumann))
@@ -236,7 +241,16 @@ class SolverFactors:
 
 def heat_matrix(mass, step, laplacian):
     """``diags(mass) + step * laplacian`` as CSR; on the Laplacian's own pattern where it holds every diagonal entry
-    and the sum no zero (the numbers scipy's sum gives: ``mass + step * L_ii`` on the diagonal, ``step * L_ij`` off it)."""
+    and the sum no zero (the numbers scipy's sum gives: ``mass + step * L_ii`` on the diagonal, ``step * L_ij`` off it).
+
+    ``step``: a float, or one per vertex (constant on each connected part, so the matrix stays symmetric).
+
+    Examples
+    --------
+    >>> L = sp.csr_matrix(np.array([[1.0, -1.0], [-1.0, 1.0]]))
+    >>> heat_matrix(np.array([0.5, 0.5]), 2.0, L).toarray().tolist()
+    [[2.5, -2.0], [-2.0, 2.5]]
+    """
     L, n = laplacian, laplacian.shape[0]
     if np.ndim(step) == 0 and sp.isspmatrix_csr(L) and L.has_canonical_format:
         diagonal = L.indices == np.repeat(np.arange(n, dtype=L.indices.dtype), np.diff(L.indptr))

@@ -141,14 +141,18 @@ class VectorHeatSolver:
         start = time.perf_counter()
         ops, hs = domain.operators, self.distance_solver
         # The distance's time step t = m h^2 (h of the refined mesh), and the Neumann heat M + t L for the
-        # scalar flows (the distance's own steps are 2t and 8t). With h of the mesh as given the angles of
-        # the log map were 1.7-2.1 times further from exact geodesics on spot, cheburashka and fandisk,
-        # though closer to the longitude on an icosphere (docs/vector-heat.md).
+        # scalar flows: the distance solver's own (also half of its Robin heat), except on refined parts,
+        # where its steps are 2t and 8t (domain.two_step_vertices()). With h of the mesh as given the
+        # angles of the log map were 1.7-2.1 times further from exact geodesics on spot, cheburashka and
+        # fandisk, though closer to the longitude on an icosphere (docs/vector-heat.md).
         self._step = vertex_time_steps(hs.part_m, hs.component, ops.mean_edge_length)
-        self._flow = cache.get_or_build(
-            ("vector scalar heat", (hs.m, backend)),
-            lambda: factor(heat_matrix(ops.mass, self._step, ops.laplacian.tocsr()), hs.factors.heat_backend),
-        )
+        if domain.two_step_vertices() is None:
+            self._flow = hs.heat_flow.neumann
+        else:
+            self._flow = cache.get_or_build(
+                ("vector scalar heat", (hs.m, backend)),
+                lambda: factor(heat_matrix(ops.mass, self._step, ops.laplacian.tocsr()), hs.factors.heat_backend),
+            )
         self._vector_factor = cache.get_or_build(
             ("vector heat", (hs.m, backend)),
             lambda: factor_hermitian((sp.diags(ops.mass.astype(complex)) + sp.diags(self._step) @ self._connection).tocsr(),
