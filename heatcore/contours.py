@@ -198,7 +198,7 @@ def isolines(V, F, values, levels):
     >>> d = hc.geodesic_distance(V, F, [0])
     >>> curves = hc.isolines(V, F, d, 4)
     >>> [round(c.level, 3) for c in curves[:2]], all(c.closed for c in curves)
-    ([0.313, 0.626], True)
+    ([0.312, 0.624], True)
     """
     V = vertex_array(V)
     F = index_array(F, V.shape[0], 3)

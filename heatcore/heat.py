@@ -1,8 +1,12 @@
 """The heat method, written once over the operator bundle of any domain.
 
-1. heat flow ``(M + t L) u = delta`` for ``t = m h^2`` (Robin boundary
-   conditions by default: the mean of the Neumann and Dirichlet solutions);
-2. unit field ``X = -grad u / |grad u|`` per element;
+1. heat flow ``(M + t L) u = delta`` for ``t = m h^2``; on a surface's refined parts
+   (``domain.two_step_vertices()``) for a short and a long step, 2t and 8t
+   (:mod:`heatcore.steps.time_step`). Robin boundary conditions by default: the mean of the
+   Neumann and Dirichlet solutions;
+2. unit field ``X = -grad u / |grad u|`` per element; on refined parts ``u`` is
+   ``log u_short - log u_long``, linear in the distance up to a constant
+   (:func:`heatcore.steps.unit_field.log_ratio`);
 3. Poisson equation ``L phi = -div X`` with every source pinned to its known
    distance (0 at a source vertex), solved per connected component;
 4. vertices that no source reaches get ``inf``.
@@ -40,8 +44,13 @@ from .steps.blocks import block_columns, source_sequence
 from .steps.factors import HeatStep, SolverFactors
 from .steps.poisson import MAX_PRECOMPUTED_PINS
 from .steps.source_bounds import source_bounds
-from .steps.time_step import underflow_safe_m, vertex_time_steps
-from .steps.unit_field import minus_divergence, minus_divergence_columns, unit_field
+from .steps.time_step import LONG_STEP, SHORT_STEP, underflow_safe_m, vertex_time_steps
+from .steps.unit_field import (
+    log_ratio,
+    minus_divergence,
+    minus_divergence_columns,
+    unit_field,
+)
 from .voronoi import nearest_source
 
 log = logging.getLogger("heatcore")
@@ -178,7 +187,12 @@ class HeatSolver:
         with np.errstate(over="ignore", under="ignore"):  # a part at 1e200 has t = 1e400: inf in float64, as reported
             self.t = np.ldexp(step[ground], 2 * np.broadcast_to(ops.unit_exponent, (n,))[ground])
         time_step = step[0] if (step == step[0]).all() else step
-        return HeatStep(time_step, self.boundary, self.component, self.n_components, ground)
+        self._two_step = two_step = self.domain.two_step_vertices()
+        if two_step is None:
+            multiples = (1.0,)
+        else:  # a mask: the parts left unrefined keep one step of t (their short step), as if alone
+            multiples = (SHORT_STEP if two_step is True else np.where(two_step, SHORT_STEP, 1.0), LONG_STEP)
+        return HeatStep(time_step, self.boundary, self.component, self.n_components, ground, multiples)
 
     @property
     def hop_diameter(self):
@@ -191,8 +205,15 @@ class HeatSolver:
 
     @property
     def heat_flow(self):
-        """Step 1, :class:`~heatcore.steps.heat_flow.HeatFlow` (built on this first use where it was deferred)."""
+        """Step 1, :class:`~heatcore.steps.heat_flow.HeatFlow` of the short step (built on first use where it was
+        deferred)."""
         return self.factors.heat_flow()
+
+    @property
+    def long_flow(self):
+        """Step 1, :class:`~heatcore.steps.heat_flow.HeatFlow` of the long step, None where the domain takes one step
+        (built on first use where it was deferred)."""
+        return self.factors.long_flow()
 
     @property
     def poisson(self):
@@ -371,7 +392,7 @@ class HeatSolver:
         n, k = self.ops.n_vertices, len(block)
         if k == 1:
             pins = block[0]
-            u = self.heat(pins.heat)
+            u = self._direction_field(pins.heat)
             b = minus_divergence(self.ops, self._gradient_transposed, u, self._element_h)
             reached = None if self.n_components == 1 else np.isin(self.component, self.component[pins.vertices])
             phi = self.poisson.solve(b, pins, reached)[:, None]
@@ -379,7 +400,7 @@ class HeatSolver:
             impulse = np.empty((n, k), order="F")  # columns contiguous: what one-column backends read
             for j, pins in enumerate(block):
                 impulse[:, j] = pins.heat
-            u = np.asfortranarray(self.heat(impulse))  # columns contiguous
+            u = np.asfortranarray(self._direction_field(impulse))  # columns contiguous
             del impulse
             b = minus_divergence_columns(self.ops, self._gradient_transposed, u, self._element_h)
             del u
@@ -495,8 +516,22 @@ class HeatSolver:
         return trace(self.domain, start, direction, length)
 
     def heat(self, impulse):
-        """Heat after one backward Euler step of length ``t`` from ``impulse`` ((n,), or (n, k): k columns at once)."""
+        """Heat after one backward Euler step from ``impulse`` ((n,), or (n, k): k columns at once): of length ``t``,
+        or on refined parts (``domain.two_step_vertices()``) the short step ``SHORT_STEP t``
+        (:mod:`heatcore.steps.time_step`)."""
         return self.heat_flow.solve(impulse)
+
+    def _direction_field(self, impulse):
+        """The field whose gradient gives the distance's direction: the heat, or on refined parts the
+        :func:`~heatcore.steps.unit_field.log_ratio` of the short and the long step's heat."""
+        long_flow = self.long_flow
+        u = self.heat(impulse)
+        if long_flow is None:
+            return u
+        field = log_ratio(u, long_flow.solve(impulse))
+        if self._two_step is not True:  # parts left unrefined: their own heat (rows of a mask)
+            field[~self._two_step] = u[~self._two_step]
+        return field
 
     def unit_field(self, u):
         """``-grad u / |grad u|`` per element, 0 where the gradient vanishes or is not finite (see :mod:`heatcore.steps.unit_field`)."""

@@ -40,7 +40,7 @@ def errors(V, P, T, sources, exact, refine):
     domains = {
         "default": lambda: hc.PolygonMesh(V, P, refine=refine),
         "virtual": lambda: hc.PolygonMesh(V, P, refine=refine, virtual=True),
-        "twin": lambda: hc.TriangleMesh(V, T, refine=refine),
+        "twin": lambda: hc.TriangleMesh(V, T, refine=refine, weld=None),  # unwelded, as PolygonMesh builds them
     }
     out = {}
     for name, build in domains.items():

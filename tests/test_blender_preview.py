@@ -63,7 +63,7 @@ def test_preview_is_drawn_at_once_and_the_refined_result_is_written(modules):
     assert drive(modal) == {"FINISHED"}
     assert preview.overlay is None and not overlay.Overlay.live  # taken down
     written = attribute(obj.data, "geodesic_distance")
-    assert mean_relative_error(written, exact) == pytest.approx(0.0125, abs=0.0005)  # refined: measured 1.25%
+    assert mean_relative_error(written, exact) == pytest.approx(0.0099, abs=0.0005)  # refined: measured 0.99% (1.25% with one heat step)
     # the default's result, as a script gets it
     twin = ico_sphere(3)
     expected = modules["api"].compute_geodesic_distance(twin, sources=[0], isolines=10)

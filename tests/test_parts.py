@@ -55,6 +55,23 @@ def test_a_part_does_not_depend_on_the_size_of_the_others(spot):
         assert np.abs(d[: offsets[1]] - alone).max() <= 1e-9 * alone.max()
 
 
+def test_a_refined_part_beside_an_unrefined_one_each_as_alone(spot):
+    """The refined part reads two heat steps, the unrefined one keeps one (``two_step_vertices`` a mask)."""
+    n = 110  # 12,100 vertices: not refined by "auto"
+    x, y = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n), indexing="ij")
+    i, j = np.meshgrid(np.arange(n - 1), np.arange(n - 1), indexing="ij")
+    a = (i * n + j).ravel()
+    grid = (np.c_[x.ravel() + 5.0, y.ravel(), np.zeros(n * n)], np.r_[np.c_[a, a + n, a + n + 1], np.c_[a, a + n + 1, a + 1]])
+    V, F, offsets = together(spot, grid)
+    mesh = hc.TriangleMesh(V, F)
+    mask = mesh.two_step_vertices()
+    assert mesh.part_levels.tolist() == [1, 0] and mask.sum() == mesh.operators.n_vertices - n * n
+    d = hc.HeatSolver(mesh).distance([7, offsets[1] + 3])
+    for (Vp, Fp), part, source in ((spot, slice(0, offsets[1]), 7), (grid, slice(offsets[1], None), 3)):
+        alone = hc.geodesic_distance(Vp, Fp, [source])
+        np.testing.assert_allclose(d[part], alone, rtol=1e-9, atol=1e-12 * alone.max())
+
+
 @pytest.mark.parametrize("scale", [1e-300, 1e-100, 1e-60, 3.7e-7, 1e60, 1e100, 1e300])
 def test_distances_scale_with_the_mesh_at_any_finite_scale(spot, scale):
     # before: 1e-60 all zeros, 1e-100 NaN, 1e60 NaN, 1e100 SolverError

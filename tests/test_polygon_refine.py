@@ -85,37 +85,37 @@ def errors(V, P, sources, exacts, **polygon_options):
 # ---------------------------------------------------------------- accuracy (docs/polygon.md)
 
 
-@pytest.mark.parametrize("jitter, ratio", [(0.0, 0.50), (0.2, 0.76)])
+@pytest.mark.parametrize("jitter, ratio", [(0.0, 0.78), (0.2, 0.96)])
 def test_hex_grid_beats_the_fan_triangulation_and_potpourri(jitter, ratio, tmp_path):
     V, H = hex_grid(jitter=jitter)
     assert len(V) == 1024
     s = int(np.argmin(np.linalg.norm(V - V.mean(0), axis=1)))
     exact = fan_exact(V, H, [s], tmp_path)  # planar: exact in the honeycomb's outline
     poly, tri = errors(V, H, [s], exact)
-    assert poly <= ratio * tri and poly < 0.009  # measured 0.44x / 0.71x, 0.60% / 0.79%
+    assert poly <= ratio * tri and poly < 0.006  # measured 0.73x / 0.93x, 0.38% / 0.48% (both refined: two heat steps)
     pp3d = potpourri_distance(V, H, s, tmp_path)
     assert pp3d is not None and poly < 0.25 * mean_relative_error(pp3d, exact[0])
 
 
-@pytest.mark.parametrize("n, jitter, ratio", [(11, 0.0, 0.35), (11, 0.3, 0.80), (31, 0.0, 0.35), (31, 0.3, 0.70)])
+@pytest.mark.parametrize("n, jitter, ratio", [(11, 0.0, 0.35), (11, 0.3, 0.62), (31, 0.0, 0.55), (31, 0.3, 0.70)])
 def test_quad_grid_beats_the_fan_triangulation(n, jitter, ratio):
     V, Q = quad_grid(n, jitter)
     sources = [(n // 2) * n + n // 2, 0, n + 2]  # centre, corner, near the boundary
     poly, tri = errors(V, Q, sources, [np.linalg.norm(V - V[s], axis=1) for s in sources])
-    assert poly <= ratio * tri  # measured 0.24x, 0.66x, 0.24x, 0.58x
+    assert poly <= ratio * tri  # measured 0.31x, 0.57x, 0.51x, 0.66x (0.24x, 0.66x, 0.24x, 0.58x with one heat step)
 
 
 def test_catmull_clark_sphere_vs_great_circles():
     V, Q = cc_sphere(3)
     sources = [0, 100, 300]
     poly, tri = errors(V, Q, sources, [great_circle(V, s) for s in sources])
-    assert poly <= 0.62 * tri and poly < 0.011  # measured 0.57x, 1.00%
+    assert poly <= 0.92 * tri and poly < 0.0075  # measured 0.87x, 0.68% (0.57x, 1.00% with one heat step)
 
 
 def test_catmull_clark_cube_vs_exact(tmp_path):
     V, Q = catmull_clark(*cube(), levels=4)
     poly, tri = errors(V, Q, [0, 700], fan_exact(V, Q, [0, 700], tmp_path))
-    assert poly <= 0.42 * tri  # measured 0.36x
+    assert poly <= 0.60 * tri  # measured 0.56x (0.36x with one heat step)
 
 
 def test_suzanne_vs_exact_on_its_fan_triangulation(tmp_path):
@@ -123,7 +123,7 @@ def test_suzanne_vs_exact_on_its_fan_triangulation(tmp_path):
     P = manifold_part(m.vertices, m.polygons)
     sources = [100, 200, 300]
     poly, tri = errors(m.vertices, P, sources, fan_exact(m.vertices, P, sources, tmp_path))
-    assert poly <= 0.97 * tri  # measured 0.95x (2.05% vs 2.15%; 0.90x before thin polygons were triangulated)
+    assert poly <= 0.95 * tri  # measured 0.91x (1.80% vs 1.98%; one heat step: 0.95x, 2.05% vs 2.15%)
 
 
 def test_beast_vs_exact_on_its_fan_triangulation(tmp_path):

@@ -166,7 +166,7 @@ def geodesic_distance_from_selection(
     >>> stats["source_kind"], stats["sources"], stats["reached"]
     ('vertices', 1, 6)
     >>> ms.current_mesh().vertex_scalar_array().round(2)
-    array([0.  , 2.49, 1.41, 1.41, 1.41, 1.41])
+    array([0.  , 2.5 , 1.41, 1.41, 1.41, 1.41])
 
     Again with other colours, skipping the setup:
 

@@ -33,6 +33,7 @@ KINDS = {
     "poisson": "factor of the grounded Laplacian, shared by the domain's solvers; variant: backend",
     "vector frames": "vertex frames, connection Laplacian, translation matrix, tangent basis (vector_heat); None",
     "vector heat": "factor of the vector heat matrix M + t L_conn (vector_heat); variant: (m, backend)",
+    "vector scalar heat": "factor of the scalar heat matrix M + t L of the vector heat method's flows; variant: (m, backend)",
     "eikonal corners": "CornerTable of the vectorized accuracy='high' pass (eikonal.py); None",
     "fast marching": "fast_marching.Readers of the compiled accuracy='high' pass (high_accuracy.py); None",
     "path mesh": "PathMesh, the input faces as geodesic paths see them (paths/surface.py); None",

@@ -419,6 +419,21 @@ class PolygonMesh(MeshDomain):
         self.part_levels, self.levels = mesh.part_levels, mesh.levels
         self.n_flips, self.thin_parts, self.mollification = mesh.n_flips, mesh.thin_parts, mesh.mollification
 
+    def two_step_vertices(self):
+        """The vertices of the refined parts: :class:`~heatcore.TriangleMesh`'s where the polygons became its
+        triangles, else every vertex once any part is refined (``virtual=True``).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+        >>> PolygonMesh(V, [[0, 1, 2, 3]], refine=0).two_step_vertices() is None
+        True
+        """
+        if self.triangles is not None:
+            return self.triangles.two_step_vertices()
+        return True if self.levels > 0 else None
+
     def _keep_parts_of(self, vertices):
         """Keep the polygons of the connected parts that hold one of ``vertices`` (all where none does)."""
         sizes = np.diff(self.offsets)

@@ -319,6 +319,21 @@ class TriangleMesh(MeshDomain):
         replaced = sub.faces[(tri.faces != sub.faces).any(axis=1)]
         return [tri.faces, replaced], [tri.lengths, face_edge_lengths(sub.vertices, replaced)]
 
+    def two_step_vertices(self):
+        """The vertices of the refined parts (:meth:`Domain.two_step_vertices <heatcore.domains.base.Domain.two_step_vertices>`).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> V, F = np.eye(3), [[0, 1, 2]]
+        >>> TriangleMesh(V, F, refine=0).two_step_vertices() is None, TriangleMesh(V, F, refine=1).two_step_vertices()
+        (True, True)
+        """
+        refined = self.part_levels > 0
+        if not refined.any():
+            return None
+        return True if refined.all() else refined[self.operators.parts[1]]
+
     def _element_sides(self, mark):
         hit = mark[self.faces]
         faces = self.faces[(hit[:, 0] | hit[:, 1] | hit[:, 2]) & (self.face_map >= 0)]  # 3x faster than any(axis=1)

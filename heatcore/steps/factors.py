@@ -3,11 +3,11 @@
 :class:`SolverFactors` resolves the ``backend`` option once, for the solver's
 intent (:data:`heatcore.settings.INTENTS`: a solver kept for many queries, or
 asked one), factors the heat matrix ``M + t L`` of the solver's time step and
-boundary condition (:class:`~heatcore.steps.heat_flow.HeatFlow`, step 1) and
-the grounded Laplacian (:class:`~heatcore.steps.poisson.PinnedPoisson`, step
-3). What depends on the domain alone (fill-reducing orderings, METIS nested
-dissection started in the background on large meshes, the Laplacian's factor)
-is kept in the domain's cache, keyed by the backend it was made for, and
+boundary condition (:class:`~heatcore.steps.heat_flow.HeatFlow`, step 1; twice on surfaces,
+for the short and the long step of :mod:`heatcore.steps.time_step`) and the grounded Laplacian
+(:class:`~heatcore.steps.poisson.PinnedPoisson`, step 3). What depends on the domain
+alone (fill-reducing orderings, METIS nested dissection started in the background
+on large meshes, the Laplacian's factor) is kept in the domain's cache, keyed by the backend it was made for, and
 shared by every solver on the domain.
 
 A solver may build them at once (:meth:`SolverFactors.build`) or leave them
@@ -63,6 +63,10 @@ class HeatStep:
     n_components : int
     ground : (n_components,) int array
         The vertex of each component held at 0 in the grounded Laplacian.
+    multiples : tuple of float or (n,) float arrays
+        The heat steps to factor, in multiples of ``time_step``: ``(1.0,)``, or the short and the long
+        step of :mod:`heatcore.steps.time_step` where the distance reads both (a domain's refined parts,
+        ``two_step_vertices()``; per vertex where only some parts are refined).
 
     Examples
     --------
@@ -76,6 +80,7 @@ class HeatStep:
     component: np.ndarray
     n_components: int
     ground: np.ndarray
+    multiples: tuple = (1.0,)
 
 
 class SolverFactors:
@@ -119,7 +124,7 @@ class SolverFactors:
         self.heat_backend = resolve_backend(settings.backend, n, intent=settings.intent, stage="factor")
         self.poisson_backend = resolve_backend(settings.backend, n, intent=settings.intent, stage="solve")
         self.timings = timings
-        self._heat_flow = self._poisson = None
+        self._heat_flow = self._long_flow = self._poisson = None
         self._deferred = None
 
     @property
@@ -148,7 +153,11 @@ class SolverFactors:
         """
         self._deferred = None
         start = time.perf_counter()
-        self._heat_flow = self._factor_heat(heat, progress.part(0.05, 0.7))
+        shares = np.linspace(0.05, 0.7, len(heat.multiples) + 1)
+        steps = ("",) if len(heat.multiples) == 1 else ("short step", "long step")
+        flows = [self._factor_heat(heat, multiple, step, progress.part(shares[i], shares[i + 1]))
+                 for i, (multiple, step) in enumerate(zip(heat.multiples, steps))]
+        self._heat_flow, self._long_flow = flows[0], (flows[1] if len(flows) > 1 else None)
         self.timings["heat factorization"] = time.perf_counter() - start
         start = time.perf_counter()
         progress(0.7, "factoring the Poisson matrix")
@@ -164,9 +173,15 @@ class SolverFactors:
                 ordering.forget_pattern()  # its memory matters more than re-converting for another m
 
     def heat_flow(self):
-        """Step 1, :class:`~heatcore.steps.heat_flow.HeatFlow` (built here where it was deferred)."""
+        """Step 1, :class:`~heatcore.steps.heat_flow.HeatFlow` of the (first) step (built here where it was deferred)."""
         self._build_deferred()
         return self._heat_flow
+
+    def long_flow(self):
+        """Step 1, :class:`~heatcore.steps.heat_flow.HeatFlow` of the long step, or None (one step; built here where it
+        was deferred)."""
+        self._build_deferred()
+        return self._long_flow
 
     def poisson(self):
         """Step 3, :class:`~heatcore.steps.poisson.PinnedPoisson` (built here where it was deferred)."""
@@ -179,20 +194,24 @@ class SolverFactors:
             self.start()
             self.build(heat, Progress(progress))
 
-    def _factor_heat(self, heat, progress):
-        """Factor ``M + t L`` for the boundary condition (Neumann, interior-only Dirichlet, or both)."""
-        ops, step, backend = self.ops, heat.time_step, self.heat_backend
-        heat_matrix = _heat_matrix(ops.mass, step, ops.laplacian)
+    def _factor_heat(self, heat, multiple, step_name, progress):
+        """Factor ``M + multiple t L`` for the boundary condition (Neumann, interior-only Dirichlet, or both);
+        ``step_name`` ("short step", "long step" or "") names the step in the progress messages."""
+        ops, backend = self.ops, self.heat_backend
+        step = multiple * heat.time_step
+        matrix = heat_matrix(ops.mass, step, ops.laplacian)
         dirichlet, interior = None, None
         if heat.boundary in ("robin", "dirichlet"):
             interior = np.flatnonzero(~ops.boundary)
             if interior.size:
-                progress(0.0, "factoring the heat matrix (interior vertices, for the Dirichlet condition)")
+                which = f"{step_name}; " if step_name else ""
+                progress(0.0, f"factoring the heat matrix ({which}interior vertices, for the Dirichlet condition)")
                 ordering = restrict_ordering(self._ordering(backend), interior)
-                dirichlet = factor(heat_matrix[interior][:, interior], backend, ordering=ordering)
+                dirichlet = factor(matrix[interior][:, interior], backend, ordering=ordering)
         # Neumann: the condition itself, half of Robin, or the fallback where Dirichlet sees no heat.
-        progress(0.0 if dirichlet is None else 0.5, "factoring the heat matrix")
-        neumann = factor(heat_matrix, backend, ordering=self._ordering(backend))
+        progress(0.0 if dirichlet is None else 0.5, f"factoring the heat matrix ({step_name})" if step_name
+                 else "factoring the heat matrix")
+        neumann = factor(matrix, backend, ordering=self._ordering(backend))
         return HeatFlow(neumann, dirichlet, interior, heat.boundary, heat.component, heat.n_components,
                         BoundarySourceHeat(ops, self._laplacian, step, neumann))
 
@@ -220,9 +239,18 @@ class SolverFactors:
         return factor(self._laplacian[free][:, free], self.heat_backend, ordering=ordering)
 
 
-def _heat_matrix(mass, step, laplacian):
+def heat_matrix(mass, step, laplacian):
     """``diags(mass) + step * laplacian`` as CSR; on the Laplacian's own pattern where it holds every diagonal entry
-    and the sum no zero (the numbers scipy's sum gives: ``mass + step * L_ii`` on the diagonal, ``step * L_ij`` off it)."""
+    and the sum no zero (the numbers scipy's sum gives: ``mass + step * L_ii`` on the diagonal, ``step * L_ij`` off it).
+
+    ``step``: a float, or one per vertex (constant on each connected part, so the matrix stays symmetric).
+
+    Examples
+    --------
+    >>> L = sp.csr_matrix(np.array([[1.0, -1.0], [-1.0, 1.0]]))
+    >>> heat_matrix(np.array([0.5, 0.5]), 2.0, L).toarray().tolist()
+    [[2.5, -2.0], [-2.0, 2.5]]
+    """
     L, n = laplacian, laplacian.shape[0]
     if np.ndim(step) == 0 and sp.isspmatrix_csr(L) and L.has_canonical_format:
         diagonal = L.indices == np.repeat(np.arange(n, dtype=L.indices.dtype), np.diff(L.indptr))

@@ -1,7 +1,9 @@
 """The time step ``t = m h^2`` of each vertex, and its guard: heat that would underflow far from the sources.
 
 :func:`vertex_time_steps` is the one definition of the step, shared by the
-heat method and the vector heat method.
+heat method and the vector heat method. On refined parts the distance is read
+from two heat steps, a short one ``SHORT_STEP t`` and a long one ``LONG_STEP t``
+(:mod:`heatcore.steps.unit_field`).
 
 With ``t = m h^2`` the heat of one backward-Euler step falls by a constant
 factor per edge hop, so on a mesh hundreds of hops across it underflows and
@@ -30,6 +32,21 @@ HEAT_DECADES_BUDGET = 250.0
 #: 1.06x, bunny 1.0x, letters of text 1.0-1.15x), hence 1.45: on the text of
 #: tests/test_polygon_concave.py, 1.3 let a letter's far end underflow (1.24% -> 1.58%).
 HOP_DECAY_FACTOR = 1.45
+
+#: The heat method's two steps on refined parts (``Domain.two_step_vertices``), in multiples of ``t = m h^2``.
+#: One backward Euler step of length ``s`` falls like ``exp(-d / sqrt(s))`` times a factor that does not
+#: depend on ``s`` to first order (the spreading of geodesics, the surface's curvature), so
+#: ``log u_short - log u_long`` is ``-d (1/sqrt(s_short) - 1/sqrt(s_long))`` up to a constant: linear in the
+#: distance, which a piecewise-linear field interpolates exactly, and free of that factor. With one step,
+#: the gradient's direction error repeats at every refinement level, so refining did not converge
+#: (docs/polygon.md). Steps 2t and 8t (sqrt(s) doubled) measured best on issue 32's meshes and on the
+#: shared ones: spot 1.20% -> 0.88%, cheburashka 1.18% -> 0.91%, homer 1.48% -> 1.16%; longer steps err
+#: more from a source beside a boundary (a jittered grid refined: 2.5t and 10t 1.10 times its unrefined
+#: error), shorter ones on curved meshes (t and 4t: suzanne 2.25% -> 2.95%). On coarse parts left
+#: unrefined one step is better (the 20 meshes of docs/polygon.md at refine=0: two steps 1.03-1.32
+#: times the error on 16), and on large ones it costs less (a query 1.3-1.5 times as long with two).
+SHORT_STEP = 2.0
+LONG_STEP = 8.0
 
 
 def heat_decay_per_hop(m):

@@ -1,4 +1,8 @@
-"""Step 2 of the heat method: the unit field ``X = -grad u / |grad u|`` and its divergence.
+"""Step 2 of the heat method: the unit field ``X = -grad f / |grad f|`` and its divergence.
+
+``f`` is :func:`log_ratio` of the heat after the short and the long step
+(:mod:`heatcore.steps.time_step`); the functions below take any field
+decreasing away from the sources (the heat itself, too).
 
 The right-hand side of the Poisson step is ``-div X = G^T (volumes * X)``
 with ``G`` the domain's gradient operator; :func:`minus_divergence` computes
@@ -26,6 +30,40 @@ SADDLE_GRADIENT = 1e-9
 #: element arrays take about this many bytes: elementwise passes over arrays
 #: that stay in the processor's cache (measured fastest on nefertiti and spot).
 UNIT_FIELD_TILE_BYTES = 4 * 2**20
+
+
+def log_ratio(u_short, u_long):
+    """``log u_short - log u_long``: the field whose gradient gives the distance's direction.
+
+    One backward Euler step of length ``s`` falls like ``exp(-d / sqrt(s))`` times a factor that,
+    to first order, does not depend on ``s`` (the spreading of geodesics). The difference of the logs
+    is then ``-d (1/sqrt(s_short) - 1/sqrt(s_long))`` up to a constant: linear in the distance, which
+    elements interpolate exactly (the heat itself falls by a factor of about 3 per edge, and its
+    linear interpolation bends the gradient), and free of the spreading factor (the log of one heat
+    alone keeps it: on curved meshes its distances came out too long, spot 1.21% -> 1.54%). Where
+    the short step's heat is 0 or negative (an unreached part, underflow) the result is not finite:
+    its elements get no direction.
+
+    Parameters
+    ----------
+    u_short, u_long : (n,) or (n, k) float arrays
+        The heat after the short and the long step, from the same impulse.
+
+    Returns
+    -------
+    float array shaped like ``u_short``
+
+    Examples
+    --------
+    >>> d = np.array([0.0, 1.0, 2.0])
+    >>> f = log_ratio(np.exp(-d / 1.0), 3 * np.exp(-d / 2.0))  # steps 1 and 4, any factor
+    >>> np.diff(f).round(12).tolist()
+    [-0.5, -0.5]
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        f = np.log(u_short)
+        f -= np.log(u_long)
+    return f
 
 
 def squared_norms(g):
@@ -86,7 +124,7 @@ def scale_to_unit(g, u_first, weights, element_h):
     # direction: X = 0 there, not a direction made of rounding noise that any change of
     # elimination order (another part beside it) would turn elsewhere.
     scale = np.multiply(norm, element_h)  # a scratch array, then the scale
-    np.putmask(norm, scale < SADDLE_GRADIENT * u_first, np.inf)
+    np.putmask(norm, scale < SADDLE_GRADIENT * np.abs(u_first), np.inf)
     np.negative(np.divide(weights, norm, out=scale), out=scale)  # -(w / |g|) is (-w) / |g|, bit for bit
     for component in g:  # axis by axis: 3x faster than broadcasting over rows of 2 or 3
         component *= scale

@@ -30,9 +30,10 @@ import scipy.sparse as sp
 from ..domains.triangle import TriangleMesh
 from ..errors import InvalidSourceError, UnsupportedDomainError
 from ..heat import HeatSolver
-from ..linalg import solve_columns
+from ..linalg import factor, solve_columns
 from ..linalg.hermitian import factor_hermitian
 from ..settings import SolverSettings
+from ..steps.factors import heat_matrix
 from ..steps.time_step import vertex_time_steps
 from .basis import tangent_frames
 from .connection import connection_laplacian, translation_matrix
@@ -139,12 +140,19 @@ class VectorHeatSolver:
         self.timings["vector frames"] = time.perf_counter() - start
         start = time.perf_counter()
         ops, hs = domain.operators, self.distance_solver
-        # The distance's time step t = m h^2 (h of the refined mesh), and its Neumann heat M + t L for the
-        # scalar flows (also half of its Robin heat). With h of the mesh as given the angles of the log map
-        # were 1.7-2.1 times further from exact geodesics on spot, cheburashka and fandisk, though closer
-        # to the longitude on an icosphere (docs/vector-heat.md).
+        # The distance's time step t = m h^2 (h of the refined mesh), and the Neumann heat M + t L for the
+        # scalar flows: the distance solver's own (also half of its Robin heat), except on refined parts,
+        # where its steps are 2t and 8t (domain.two_step_vertices()). With h of the mesh as given the
+        # angles of the log map were 1.7-2.1 times further from exact geodesics on spot, cheburashka and
+        # fandisk, though closer to the longitude on an icosphere (docs/vector-heat.md).
         self._step = vertex_time_steps(hs.part_m, hs.component, ops.mean_edge_length)
-        self._flow = hs.heat_flow.neumann
+        if domain.two_step_vertices() is None:
+            self._flow = hs.heat_flow.neumann
+        else:
+            self._flow = cache.get_or_build(
+                ("vector scalar heat", (hs.m, backend)),
+                lambda: factor(heat_matrix(ops.mass, self._step, ops.laplacian.tocsr()), hs.factors.heat_backend),
+            )
         self._vector_factor = cache.get_or_build(
             ("vector heat", (hs.m, backend)),
             lambda: factor_hermitian((sp.diags(ops.mass.astype(complex)) + sp.diags(self._step) @ self._connection).tocsr(),

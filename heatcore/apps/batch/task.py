@@ -89,7 +89,7 @@ def source_rows(solver, sources, rows_done=(), columns=None):
     >>> solver = hc.HeatSolver(hc.TriangleMesh(np.array(V, float), np.array(F), refine=3))  # octahedron
     >>> rows = list(source_rows(solver, [0, 1, 2], rows_done={1}, columns=2))
     >>> rows[1] is None, rows[0].round(2)
-    (True, array([0.  , 2.49, 1.41, 1.41, 1.41, 1.41]))
+    (True, array([0.  , 2.5 , 1.41, 1.41, 1.41, 1.41]))
     >>> np.allclose(rows[2], solver.distance([2]), rtol=0, atol=1e-10)
     True
     """
@@ -137,7 +137,7 @@ def farthest_point_sources(solver, k, n, candidates=None):
     >>> F = [[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]]
     >>> solver = hc.HeatSolver(hc.TriangleMesh(np.array(V, float), np.array(F), refine=3))  # octahedron
     >>> [(source, row.round(2).tolist()) for source, row in farthest_point_sources(solver, 2, 6)]
-    [(0, [0.0, 2.49, 1.41, 1.41, 1.41, 1.41]), (1, [2.49, 0.0, 1.41, 1.41, 1.41, 1.41])]
+    [(0, [0.0, 2.5, 1.41, 1.41, 1.41, 1.41]), (1, [2.5, 0.0, 1.41, 1.41, 1.41, 1.41])]
     """
     allowed = np.ones(n, bool) if candidates is None else np.asarray(candidates, bool)
     if allowed.sum() < k:
