@@ -74,3 +74,22 @@ def test_a_cube_loop_is_measured_on_the_cube():
     phi = hc.SignedHeatSolver(hc.TriangleMesh(V, mesh.faces, weld=1e-9)).distance([loop])
     side = np.abs(V[:, 2]) < 1 - 1e-9  # on the four side faces the distance is |z| (the caps are further)
     assert np.abs(phi[side] - V[side, 2]).max() < 0.02
+
+
+def test_a_shallow_fold_stays_a_fold():
+    """A flat sheet folded by 20 degrees along a line of edges: its faces lie in at most two planes at every
+    vertex, so it is refined flat and the distance to a line parallel to the fold is exact across it."""
+    n = 21
+    s = np.linspace(-1, 1, n)  # arc length across the fold (at s = 0)
+    S, Y = np.meshgrid(s, np.linspace(0, 2, n), indexing="ij")
+    a = np.radians(10)
+    V = np.c_[(S * np.cos(a)).ravel(), Y.ravel(), (-np.abs(S) * np.sin(a)).ravel()]
+    idx = np.arange(n * n).reshape(n, n)
+    q0, q1, q2, q3 = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()
+    F = np.r_[np.c_[q0, q1, q2], np.c_[q0, q2, q3]]
+    mesh = hc.TriangleMesh(V, F)
+    assert mesh.levels > 0 and curved_refinement(mesh) is mesh
+    phi = hc.SignedHeatSolver(mesh).distance([[int(v) for v in idx[5]]])  # the line s = -0.5, along +y
+    middle = (Y.ravel() > 0.4) & (Y.ravel() < 1.6)
+    exact = np.abs(S.ravel() + 0.5)
+    assert np.abs(np.abs(phi[middle]) - exact[middle]).max() < 1e-6
