@@ -45,7 +45,7 @@ def test_what_the_solvers_derive_is_kept_in_the_domain_cache(square):
     solver.distance([0])
     solver.geodesic_path(0, 3)
     hc.HeatSolver(mesh).distance([0])  # the heat method's factors (accuracy="high" with numba needs none)
-    hc.VectorHeatSolver(mesh)
+    hc.VectorHeatSolver(mesh).log_map(0)  # its factors are built on first use
     kinds = {kind for kind, _ in mesh.derived}
     # refined: the distance takes two heat steps, the vector heat method's flows factor their own (vector scalar heat)
     assert {"ordering", "poisson", "path mesh", "vector frames", "vector heat", "vector scalar heat"} <= kinds

@@ -56,6 +56,14 @@ class ParsedCurve(NamedTuple):
     def n_nodes(self):
         return self.kinds.size
 
+    @property
+    def closed(self):
+        """Whether the first and the last point are the same (a loop)."""
+        same_kind = self.kinds[0] == self.kinds[-1]
+        if self.kinds[0]:
+            return bool(same_kind and self.vertices[0] == self.vertices[-1])
+        return bool(same_kind and self.faces[0] == self.faces[-1] and np.allclose(self.barycentric[0], self.barycentric[-1]))
+
 
 def parse_curve(curve, label="curve"):
     """A :class:`ParsedCurve` from a sequence of vertex indices and ``(face, barycentric)`` pairs.

@@ -3,12 +3,16 @@
 The solver (:mod:`heatcore.signed_heat.solver`) asks a field for four things:
 the curve points as the operators see them (``nodes``), the operator
 vertices' tangent basis (``operator_basis``), the vector heat flow
-(``diffuse``) and the divergence of the normalized flow (``divergence``).
+(``diffuse``, for a share of the heat method's time) and the divergence of
+the normalized flow (``divergence``); and the ``surface`` and
+``poisson_solver`` the operators and the Poisson factor come from.
 
 - :class:`MeshField`: a triangle mesh, through the vector heat method's own
-  frames and factor (:class:`~heatcore.vector_heat.VectorHeatSolver`); the
-  flow is read on the intrinsic triangles (:mod:`~heatcore.signed_heat.face_field`)
-  and the divergence is the heat method's, ``G^T (volumes * X)``.
+  frames and factor (:class:`~heatcore.vector_heat.VectorHeatSolver`) on its
+  ``surface``, the refined mesh on curved triangles
+  (:mod:`~heatcore.signed_heat.surface`); the flow is read on the intrinsic
+  triangles (:mod:`~heatcore.signed_heat.face_field`) and the divergence is
+  the heat method's, ``G^T (volumes * X)``.
 - :class:`CloudField`: a point cloud, with tangent planes from its oriented
   normals and the connection Laplacian of its Laplacian's weights (each edge
   turning a vector by the least rotation between the two normals); the flow
@@ -33,8 +37,19 @@ from ..heat import HeatSolver
 from ..linalg.hermitian import factor_hermitian
 from ..steps.time_step import vertex_time_steps
 from ..vector_heat.solver import TangentBasis, VectorHeatSolver
+from ..vector_heat.sources import tangent_sources
 from .curves import CurveNodes, curve_nodes
 from .face_field import unit_face_field
+from .surface import curved_refinement
+
+#: Where a signed curve is open (its ends are not one point), the vector flow runs for this share of the
+#: heat method's time ``t = m h^2``; closed curves flow for ``t``. Near an open curve's ends the field is
+#: a blend of the normals around, as wide as the flow spreads (``sqrt t``): a broken curve's error grows
+#: with the time, a closed curve's shrinks. Measured (docs/signed.md): the disc's circle broken in four,
+#: 0.227% of its radius at ``t`` and 0.185% at ``t/2`` (potpourri3d 0.197%); 11 broken circles on other
+#: discs and icospheres (seeds, radii, gaps), 5 further than potpourri3d at ``t``, none at ``t/2``; the
+#: closed circles would lose at ``t/2``: 0.017% -> 0.021% (the disc's), 0.022% -> 0.033% (an icosphere's).
+OPEN_CURVE_TIME = 0.5
 
 
 class MeshField:
@@ -51,11 +66,25 @@ class MeshField:
 
     def __init__(self, domain, settings):
         self.domain = domain
-        self.vector_solver = VectorHeatSolver(domain, settings)
-        self.distance_solver = self.vector_solver.distance_solver
+        self.surface = curved_refinement(domain)
+        if self.surface.operators.n_vertices != domain.operators.n_vertices:  # parts dropped: not the same vertices
+            self.surface = domain
+        self.vector_solver = VectorHeatSolver(self.surface, settings)
+        self.poisson_solver = self.vector_solver.distance_solver
         self.operator_basis = self.vector_solver.operator_basis
-        self.positions = domain.subdivision.vertices
+        self.positions = self.surface.subdivision.vertices
+        self._settings = settings
+        self._distance_solver = self.poisson_solver if self.surface is domain else None
+        self.vector_solver.flow_factor()  # closed curves' flow, prefactored; open curves' at first use
         self.timings = dict(self.vector_solver.timings)
+
+    @property
+    def distance_solver(self):
+        """The heat method on the domain as given (for unsigned sources), built at first use where it is not
+        the Poisson solver's."""
+        if self._distance_solver is None:
+            self._distance_solver = HeatSolver(self.domain, self._settings)
+        return self._distance_solver
 
     def nodes(self, parsed):
         """:class:`~heatcore.signed_heat.curves.CurveNodes` of the curves, with the refined vertices on each
@@ -66,7 +95,9 @@ class MeshField:
         sources nor on the zero set); points inside faces gained nothing from points between them (the errors
         of docs/signed.md the same to 0.001 points).
         """
-        nodes = curve_nodes(parsed, lambda v, p: self.vector_solver.sources(v, points=p))
+        nodes = curve_nodes(parsed, lambda v, p: tangent_sources(self.domain, self.operator_basis, v, p))
+        if self.surface is not self.domain:  # the same carriers, on the curved refinement
+            nodes = _on_surface(nodes, self.positions, self.operator_basis.normal)
         if self.domain.levels == 0:
             return nodes
         kinds = np.concatenate([c.kinds for c in parsed])
@@ -77,13 +108,14 @@ class MeshField:
             return nodes
         return _inserted(nodes, j, inner, self.positions, self.operator_basis.normal)
 
-    def diffuse(self, rhs):
-        return self.vector_solver.diffuse(rhs)
+    def diffuse(self, rhs, time_scale=1.0):
+        """The vector heat flow of ``rhs`` for ``time_scale`` times the heat method's time."""
+        return self.vector_solver.diffuse(rhs, time_scale)
 
     def divergence(self, Y):
         """``G^T (volumes * X)`` of the unit field ``X`` read from the vertex vectors ``Y`` on the triangles."""
-        ops = self.domain.operators
-        X = unit_face_field(self.domain.intrinsic, self.vector_solver.frames, Y)
+        ops = self.surface.operators
+        X = unit_face_field(self.surface.intrinsic, self.vector_solver.frames, Y)
         return ops.gradient.T @ (ops.volumes[:, None] * X).ravel()
 
 
@@ -103,17 +135,24 @@ class CloudField:
 
     def __init__(self, domain, settings):
         self.domain = domain
-        self.distance_solver = HeatSolver(domain, settings)
+        self.surface = domain
+        self.distance_solver = self.poisson_solver = HeatSolver(domain, settings)
         self.timings = dict(self.distance_solver.timings)
-        ops, hs = domain.operators, self.distance_solver
         self.positions = domain.operator_positions
         frames = domain.derived.get_or_build(("cloud connection", None), lambda: _cloud_connection(domain))
-        self.operator_basis, connection = frames
-        step = vertex_time_steps(hs.part_m, hs.component, ops.mean_edge_length)
-        self._factor = domain.derived.get_or_build(
-            ("signed vector heat", (hs.m, settings.backend)),
-            lambda: factor_hermitian((sp.diags(ops.mass.astype(complex)) + sp.diags(step) @ connection).tocsr(),
-                                     settings.backend),
+        self.operator_basis, self._connection = frames
+        self._backend = settings.backend
+        self.flow_factor()  # closed curves' flow, prefactored
+
+    def flow_factor(self, time_scale=1.0):
+        """The factor of ``M + s t L∇`` (as :meth:`heatcore.VectorHeatSolver.flow_factor`), kept with the domain."""
+        ops, hs = self.domain.operators, self.distance_solver
+        part_m = np.where(hs.part_m > hs.m, hs.part_m, time_scale * hs.m)
+        step = vertex_time_steps(part_m, hs.component, ops.mean_edge_length)
+        return self.domain.derived.get_or_build(
+            ("signed vector heat", (hs.m, self._backend, float(time_scale))),
+            lambda: factor_hermitian((sp.diags(ops.mass.astype(complex)) + sp.diags(step) @ self._connection).tocsr(),
+                                     self._backend),
         )
 
     def nodes(self, parsed):
@@ -128,8 +167,9 @@ class CloudField:
         return CurveNodes(carriers, self.positions[vertices], self.operator_basis.normal[vertices],
                           np.array(owner, dtype=np.int64))
 
-    def diffuse(self, rhs):
-        return self._factor.solve(rhs)
+    def diffuse(self, rhs, time_scale=1.0):
+        """The vector heat flow of ``rhs`` for ``time_scale`` times the heat method's time."""
+        return self.flow_factor(time_scale).solve(rhs)
 
     def divergence(self, Y):
         """``G^T (volumes * X)`` of the unit field ``X`` read from the vertex vectors ``Y`` on the triangles.
@@ -200,6 +240,14 @@ def edge_interior_vertices(domain, a, b):
         run = on[lo:hi]
         out.append(run if oa[i] == sub.edges[pos[i], 0] else run[::-1])
     return out
+
+
+def _on_surface(nodes, positions, normals):
+    """``nodes`` with each point's position and normal the hat-weighted ones of its carriers."""
+    X = np.array([w @ positions[v] for v, w in nodes.carriers]).reshape(-1, 3)
+    N = np.array([w @ normals[v] for v, w in nodes.carriers]).reshape(-1, 3)
+    N /= np.maximum(np.linalg.norm(N, axis=1), 1e-300)[:, None]
+    return nodes._replace(positions=X, normals=N)
 
 
 def _inserted(nodes, after, inner, positions, normals):

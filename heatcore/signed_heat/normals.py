@@ -58,7 +58,7 @@ def tangent_constraints(nodes, is_signed, basis, n):
     return sp.csc_matrix((tangent[rows] / size[rows], (rows, columns)), shape=(n, rows.size))
 
 
-def flow_keeping_normals(vector_solver, rhs, nodes, is_signed):
+def flow_keeping_normals(vector_solver, rhs, nodes, is_signed, time_scale=1.0):
     """``Y``, the vector heat flow of ``rhs`` with no tangential part at the signed curves' points.
 
     Examples
@@ -76,13 +76,13 @@ def flow_keeping_normals(vector_solver, rhs, nodes, is_signed):
     """
     n = rhs.size
     A = tangent_constraints(nodes, is_signed, vector_solver.operator_basis, n)
-    Y = vector_solver.diffuse(rhs)
+    Y = vector_solver.diffuse(rhs, time_scale)
     k = A.shape[1]
     if k == 0:
         return Y
     system = np.empty((k, k))
     for start in range(0, k, CONSTRAINT_COLUMNS):
-        block = vector_solver.diffuse(A[:, start:start + CONSTRAINT_COLUMNS].toarray())
+        block = vector_solver.diffuse(A[:, start:start + CONSTRAINT_COLUMNS].toarray(), time_scale)
         system[:, start:start + block.shape[1]] = (A.conj().T @ block).real
     lam = np.linalg.lstsq(system, (A.conj().T @ Y).real, rcond=None)[0]
-    return vector_solver.diffuse(rhs - A @ lam)
+    return vector_solver.diffuse(rhs - A @ lam, time_scale)

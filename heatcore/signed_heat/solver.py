@@ -2,9 +2,12 @@
 
 The method ("A Heat Method for Generalized Signed Distance", ACM TOG 2024):
 
+0. on a refined mesh, move the refined vertices onto curved triangles
+   (:mod:`heatcore.signed_heat.surface`): the operators below live there;
 1. start the vector heat flow with the curves' normals, pointing to their left
    (:mod:`heatcore.signed_heat.curves`), and diffuse for the heat method's
-   time ``t = m h^2``: ``(M + t L∇) Y = Y0`` (the vector heat method's factor);
+   time ``t = m h^2``, ``t/2`` where a signed curve is open:
+   ``(M + t L∇) Y = Y0`` (the vector heat method's factor);
 2. read ``Y`` on each triangle and scale it to length 1
    (:mod:`heatcore.signed_heat.face_field`);
 3. integrate: ``L phi = G^T (volumes * X)``, with the curves as level sets
@@ -13,7 +16,7 @@ The method ("A Heat Method for Generalized Signed Distance", ACM TOG 2024):
 Where the curves bound a region the result is the signed distance, positive
 on their left; broken, open or crossing curves give a smooth generalization
 (the field is what their normals, diffused, agree on). Every operator is the
-domain's: the vector heat factor and the heat method's grounded Poisson factor.
+surface's: the vector heat factor and the heat method's grounded Poisson factor.
 
 Examples
 --------
@@ -42,7 +45,7 @@ from ..errors import (
 )
 from ..settings import SolverSettings
 from .curves import away_source, parse_curve, signed_source
-from .fields import CloudField, MeshField
+from .fields import OPEN_CURVE_TIME, CloudField, MeshField
 from .level_sets import LEVEL_SETS, constrained_poisson, constraint_rows
 from .normals import flow_keeping_normals
 
@@ -65,10 +68,12 @@ class SignedHeatSolver:
     settings : SolverSettings or Settings, optional
         As for :class:`~heatcore.HeatSolver`.
     m : float, default 1.0
-        Time factor, ``t = m h^2`` for the vector and the scalar flows.
+        Time factor, ``t = m h^2`` for the vector and the scalar flows
+        (the vector flow runs for ``t/2`` in a query with an open signed
+        curve: ``heatcore.signed_heat.fields.OPEN_CURVE_TIME``).
     accuracy : {"smooth"}
         "high" is refused: the eikonal pass's distance to a curve's points
-        was 5-38 times further from the analytic distance than the signed
+        was 23-144 times further from the analytic distance than the signed
         heat method's own (a circle on a disc, the equator of two spheres;
         docs/signed.md), so it would not sharpen anything.
     boundary, backend
@@ -78,11 +83,13 @@ class SignedHeatSolver:
     ----------
     field : MeshField or CloudField
         Where the vectors live (:mod:`heatcore.signed_heat.fields`): on a
-        mesh, the vector heat method's frames and factor, shared with any
-        :class:`~heatcore.VectorHeatSolver` of the same domain.
+        mesh, the vector heat method's frames and factor on its ``surface``
+        (the domain itself where it is flat or not refined, when they are
+        shared with any :class:`~heatcore.VectorHeatSolver` of the domain),
+        and the Poisson factor that integrates the field (``poisson_solver``).
     distance_solver : HeatSolver
-        The heat method on the same domain: its Poisson factor integrates
-        the field; it measures unsigned sources.
+        The heat method on the domain as given: it measures unsigned
+        sources (built at first use where it is not the field's).
     timings : dict
 
     Raises
@@ -105,7 +112,7 @@ class SignedHeatSolver:
         settings = SolverSettings(FRONT_END, **options) if settings is None else SolverSettings.of(settings, **options)
         if settings.accuracy == "high":
             raise InvalidOptionError(
-                'the signed heat method has no accuracy="high": its own distance is already 5-38 times closer to '
+                'the signed heat method has no accuracy="high": its own distance is already 23-144 times closer to '
                 "exact than the eikonal pass from the curve's points (docs/signed.md); use the default"
             )
         self._vertices_only = isinstance(domain, (PolygonMesh, PointCloud))
@@ -122,8 +129,12 @@ class SignedHeatSolver:
             )
         self.domain = domain
         self.settings = settings
-        self.distance_solver = self.field.distance_solver
         self.timings = dict(self.field.timings)
+
+    @property
+    def distance_solver(self):
+        """The heat method on the domain as given: it measures unsigned sources."""
+        return self.field.distance_solver
 
     def distance(self, curves, signed=True, *, points=None, level_set="zero", keep_normals=False):
         """Signed distance from the curves (and unsigned distance from ``points``) at every input vertex.
@@ -165,7 +176,7 @@ class SignedHeatSolver:
             raise InvalidOptionError(f"level_set must be one of {', '.join(LEVEL_SETS)}, got {level_set!r}")
         if not any(is_signed):
             return self._unsigned(parsed)
-        field, ops, hs = self.field, self.domain.operators, self.distance_solver
+        field, ops, hs = self.field, self.field.surface.operators, self.field.poisson_solver
         nodes = field.nodes(parsed)
         n = ops.n_vertices
         rhs = np.zeros(n, dtype=complex)
@@ -176,7 +187,11 @@ class SignedHeatSolver:
                 signed_source(nodes, rhs, c, field.operator_basis)
             else:
                 away_source(nodes, rhs, c, field.operator_basis, field.positions, ops.laplacian, h)
-        Y = flow_keeping_normals(field, rhs, nodes, is_signed) if keep_normals else field.diffuse(rhs)
+        time_scale = OPEN_CURVE_TIME if any(s and not c.closed for c, s in zip(parsed, is_signed)) else 1.0
+        if keep_normals:
+            Y = flow_keeping_normals(field, rhs, nodes, is_signed, time_scale)
+        else:
+            Y = field.diffuse(rhs, time_scale)
         b = field.divergence(Y)
         C = constraint_rows(nodes.carriers, n)
         groups = np.zeros(nodes.curve.size, dtype=np.int64) if level_set != "multiple" else nodes.curve
@@ -204,7 +219,7 @@ class SignedHeatSolver:
 
     def _shifted(self, phi, C, nodes):
         """``phi`` minus the mean of its values at the curve points of each part; ``inf`` in parts with none."""
-        hs = self.distance_solver
+        hs = self.field.poisson_solver
         at_points = C @ phi
         weight = _node_weights(nodes)
         part_of_point = hs.component[np.array([v[np.argmax(w)] for v, w in nodes.carriers])]

@@ -21,6 +21,7 @@ Examples
 ((2930, 3), True)
 """
 
+import functools
 import time
 from typing import NamedTuple
 
@@ -129,7 +130,6 @@ class VectorHeatSolver:
         self.domain = domain
         self.settings = settings
         self.accuracy = settings.accuracy
-        backend = settings.backend
         self.distance_solver = HeatSolver(domain, settings)
         self.timings = dict(self.distance_solver.timings)
         start = time.perf_counter()
@@ -138,7 +138,6 @@ class VectorHeatSolver:
             ("vector frames", None), lambda: _frames_of(domain)
         )
         self.timings["vector frames"] = time.perf_counter() - start
-        start = time.perf_counter()
         ops, hs = domain.operators, self.distance_solver
         # The distance's time step t = m h^2 (h of the refined mesh), and the Neumann heat M + t L for the
         # scalar flows: the distance solver's own (also half of its Robin heat), except on refined parts,
@@ -146,19 +145,18 @@ class VectorHeatSolver:
         # angles of the log map were 1.7-2.1 times further from exact geodesics on spot, cheburashka and
         # fandisk, though closer to the longitude on an icosphere (docs/vector-heat.md).
         self._step = vertex_time_steps(hs.part_m, hs.component, ops.mean_edge_length)
-        if domain.two_step_vertices() is None:
-            self._flow = hs.heat_flow.neumann
-        else:
-            self._flow = cache.get_or_build(
-                ("vector scalar heat", (hs.m, backend)),
-                lambda: factor(heat_matrix(ops.mass, self._step, ops.laplacian.tocsr()), hs.factors.heat_backend),
-            )
-        self._vector_factor = cache.get_or_build(
-            ("vector heat", (hs.m, backend)),
-            lambda: factor_hermitian((sp.diags(ops.mass.astype(complex)) + sp.diags(self._step) @ self._connection).tocsr(),
-                                     backend),
+
+    @functools.cached_property
+    def _flow(self):
+        """The factor of the Neumann heat ``M + t L`` of the scalar flows (built on first use: the signed heat
+        method never needs it): the distance solver's own where no part is refined, else one of its own."""
+        hs, ops = self.distance_solver, self.domain.operators
+        if self.domain.two_step_vertices() is None:
+            return hs.heat_flow.neumann
+        return self.domain.derived.get_or_build(
+            ("vector scalar heat", (hs.m, self.settings.backend)),
+            lambda: factor(heat_matrix(ops.mass, self._step, ops.laplacian.tocsr()), hs.factors.heat_backend),
         )
-        self.timings["vector heat factorization"] = time.perf_counter() - start
 
     @property
     def frames(self):
@@ -170,12 +168,41 @@ class VectorHeatSolver:
         """:class:`TangentBasis` of every operator vertex (the refined mesh's), in the operators' length unit."""
         return TangentBasis(*self._basis)
 
-    def diffuse(self, rhs):
-        """The vector heat flow ``(M + t L∇)^-1 rhs``: complex coordinates in the operator vertices' frames.
+    def flow_factor(self, time_scale=1.0):
+        """The factor of the vector heat flow ``M + s t L∇`` for a time ``s t`` (kept in the domain's cache).
 
-        ``rhs`` is ``(n,)`` or ``(n, k)`` complex, ``n`` the operator vertices.
+        ``time_scale`` ``s`` scales the time ``t = m h^2`` of each connected part
+        whose ``m`` is the solver's; a part whose ``m`` was raised against
+        underflow (``HeatSolver.part_m``) keeps its time. Built at first use
+        (``timings["vector heat factorization"]``), then found in the cache.
+
+        Returns
+        -------
+        Factor
+            ``solve(rhs)`` gives the flow of ``(n,)`` or ``(n, k)`` complex
+            right-hand sides in the operator vertices' frames.
         """
-        return self._vector_factor.solve(rhs)
+        hs, ops = self.distance_solver, self.domain.operators
+        part_m = np.where(hs.part_m > hs.m, hs.part_m, time_scale * hs.m)
+        step = vertex_time_steps(part_m, hs.component, ops.mean_edge_length)
+        key = (hs.m, self.settings.backend) if time_scale == 1.0 else (hs.m, self.settings.backend, float(time_scale))
+
+        def build():
+            start = time.perf_counter()
+            factor = factor_hermitian((sp.diags(ops.mass.astype(complex)) + sp.diags(step) @ self._connection).tocsr(),
+                                      self.settings.backend)
+            self.timings["vector heat factorization"] = time.perf_counter() - start
+            return factor
+
+        return self.domain.derived.get_or_build(("vector heat", key), build)
+
+    def diffuse(self, rhs, time_scale=1.0):
+        """The vector heat flow ``(M + s t L∇)^-1 rhs``: complex coordinates in the operator vertices' frames.
+
+        ``rhs`` is ``(n,)`` or ``(n, k)`` complex, ``n`` the operator vertices;
+        ``time_scale`` ``s`` as in :meth:`flow_factor`.
+        """
+        return self.flow_factor(time_scale).solve(rhs)
 
     def tangent_basis(self):
         """Each input vertex's :class:`TangentBasis` ``(normal, e1, e2)``: the frame of 2D coordinates.
@@ -238,7 +265,7 @@ class VectorHeatSolver:
             np.add.at(heat, (s.vertices, 0), s.weights * abs(z))
             np.add.at(heat, (s.vertices, 1), s.weights)
             lengths.append(abs(z))
-        Y = self._vector_factor.solve(rhs)
+        Y = self.flow_factor().solve(rhs)
         if len(found) == 1:
             length = np.full(n, lengths[0])
         else:
@@ -291,7 +318,7 @@ class VectorHeatSolver:
         np.add.at(impulse, found.vertices, found.weights)
         u = solve_columns(self._flow, impulse)
         affine = point_offsets(self.domain.subdivision.vertices, self._basis, found, n) - self._step * (self._translation @ u)
-        flows = self._vector_factor.solve(np.column_stack([source_impulse(self._basis, found, found.e1, n), affine]))
+        flows = self.flow_factor().solve(np.column_stack([source_impulse(self._basis, found, found.e1, n), affine]))
         angle = flow_angle(flows[:, 1], flows[:, 0]) - turn
         if source is None:
             distance = self.distance_solver.distance(points=points)
