@@ -42,7 +42,7 @@ import numpy as np
 
 from .ear_clipping import delaunay_triangles
 from .parts import vertex_components
-from .polygon_shape import plane_coordinates
+from .polygon_shape import plane_coordinates, row_max, row_min
 
 #: Relative size (of a polygon's squared extent) below which a corner's turn counts as none (rounding).
 STRAIGHT_TOLERANCE = 1e-9
@@ -230,7 +230,8 @@ def _quad_splits(Q, idx):
     straight_02 = np.where(np.abs(excess) <= COCIRCULAR_RADIANS, _either_diagonal(idx), excess <= 0)
     # a dart's reflex corner must end the diagonal: 0-2 is outside when corner 1 or 3 is reflex
     turn = _cross(np.roll(Q, 1, axis=1), Q, np.roll(Q, -1, axis=1))
-    reflex = turn < -STRAIGHT_TOLERANCE * np.ptp(Q, axis=1).max(axis=1, keepdims=True) ** 2
+    spans = row_max(Q) - row_min(Q)  # np.ptp(Q, axis=1), (p, 2)
+    reflex = turn < -STRAIGHT_TOLERANCE * np.maximum(spans[:, 0], spans[:, 1])[:, None] ** 2
     use_02 = np.where(reflex[:, [1, 3]].any(axis=1), False, np.where(reflex[:, [0, 2]].any(axis=1), True, straight_02))
     a = np.array([[0, 1, 2], [0, 2, 3]])
     b = np.array([[0, 1, 3], [1, 2, 3]])

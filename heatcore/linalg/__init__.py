@@ -60,7 +60,7 @@ from .backends import (
     resolve_backend,
 )
 from .columns import solve_columns
-from .factor import factor
+from .factor import StartedFactor, factor, start_factor
 from .interface import Factor
 from .memory import release_free_memory
 from .ordering import (
@@ -77,6 +77,7 @@ __all__ = [
     "SUPERNODAL_MIN_SIZE",
     "Factor",
     "Ordering",
+    "StartedFactor",
     "available_backends",
     "choose_backend",
     "factor",
@@ -85,5 +86,6 @@ __all__ = [
     "resolve_backend",
     "restrict_ordering",
     "solve_columns",
+    "start_factor",
     "start_nested_dissection",
 ]

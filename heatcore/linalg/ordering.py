@@ -59,6 +59,11 @@ class Ordering:
     ----------
     permutation : (n,) int64 array
     pattern : object or None
+    analysis : object or None
+        The backend's symbolic analysis of the pattern in this order, kept by
+        the first factorization of a matrix with the pattern for the others
+        (the ``supernodal`` backend's: a CHOLMOD symbolic factor,
+        :mod:`heatcore.linalg.symbolic`).
 
     Examples
     --------
@@ -69,9 +74,10 @@ class Ordering:
     def __init__(self, permutation, pattern=None):
         self.permutation = np.asarray(permutation, dtype=np.int64).ravel()
         self.pattern = pattern
+        self.analysis = None
 
     def forget_pattern(self):
-        """Drop the converted pattern (its memory); later factorizations convert their matrix.
+        """Drop the converted pattern and the symbolic analysis (their memory); later factorizations make their own.
 
         Examples
         --------
@@ -80,7 +86,7 @@ class Ordering:
         >>> ordering.pattern is None
         True
         """
-        self.pattern = None
+        self.pattern = self.analysis = None
 
     def reordered(self, permutation):
         """Another ordering of the same pattern (sharing its converted pattern).

@@ -39,6 +39,7 @@ from ..linalg import (
     fill_reducing_ordering,
     resolve_backend,
     restrict_ordering,
+    start_factor,
     start_nested_dissection,
 )
 from ..progress import Progress
@@ -147,18 +148,28 @@ class SolverFactors:
         progress : Progress
         """
         self._deferred = None
+        backend = self.poisson_backend
+        poisson = None
+        if ("poisson", backend) not in self._cache and not isinstance(self._cache.get(("nested", backend)), Future):
+            # It runs beside the heat matrix's where the backend lets it (else it is made below, as it would be).
+            start = time.perf_counter()
+            poisson = start_factor(grounded(self._laplacian, heat.ground), backend,
+                                   ordering=self._laplacian_ordering(backend))
+            self.timings["poisson factorization"] = time.perf_counter() - start
         start = time.perf_counter()
         self._heat_flow = self._factor_heat(heat, progress.part(0.05, 0.7))
         self.timings["heat factorization"] = time.perf_counter() - start
         start = time.perf_counter()
         progress(0.7, "factoring the Poisson matrix")
-        backend = self.poisson_backend
         if ("poisson", backend) not in self._cache:
-            K = grounded(self._laplacian, heat.ground)
-            self._cache["poisson", backend] = factor(K, backend, ordering=self._laplacian_ordering(backend))
+            if poisson is None:
+                poisson = start_factor(grounded(self._laplacian, heat.ground), backend,
+                                       ordering=self._laplacian_ordering(backend))
+            self._cache["poisson", backend] = poisson.result()
         self._poisson = PinnedPoisson(self._laplacian, self._cache["poisson", backend], heat.ground, heat.component,
                                       heat.n_components, self.factor_free)
-        self.timings["poisson factorization"] = time.perf_counter() - start
+        self.timings["poisson factorization"] = self.timings.get("poisson factorization", 0.0) + (
+            time.perf_counter() - start)
         for ordering in self._cache.values():
             if isinstance(ordering, Ordering):
                 ordering.forget_pattern()  # its memory matters more than re-converting for another m
