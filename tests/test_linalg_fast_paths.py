@@ -155,6 +155,17 @@ def test_a_factorization_started_in_the_background_is_the_same_and_says_when_it_
             broken.result()
 
 
+def test_minimum_degree_started_in_the_background_is_cvxopts_own():
+    require("cvxopt")
+    A = heat_matrix(40, 40).tocsr()
+    started = linalg.start_fill_reducing_ordering(A, "supernodal")
+    from heatcore.linalg import supernodal
+
+    own, _ = supernodal.minimum_degree(A)  # cvxopt.amd.order
+    assert np.array_equal(started.result().permutation, np.asarray(own).ravel())
+    assert started.result().pattern is not None
+
+
 def test_the_readers_know_the_versions_the_blender_extension_bundles():
     """Bumping a bundled version means checking the reader on it (these tests) and adding it."""
     script = (REPO / "scripts" / "build_blender_extension.py").read_text()

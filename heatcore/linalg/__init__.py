@@ -66,8 +66,10 @@ from .memory import release_free_memory
 from .ordering import (
     NESTED_DISSECTION_MIN_SIZE,
     Ordering,
+    StartedOrdering,
     fill_reducing_ordering,
     restrict_ordering,
+    start_fill_reducing_ordering,
     start_nested_dissection,
 )
 
@@ -78,6 +80,7 @@ __all__ = [
     "Factor",
     "Ordering",
     "StartedFactor",
+    "StartedOrdering",
     "available_backends",
     "choose_backend",
     "factor",
@@ -87,5 +90,6 @@ __all__ = [
     "restrict_ordering",
     "solve_columns",
     "start_factor",
+    "start_fill_reducing_ordering",
     "start_nested_dissection",
 ]

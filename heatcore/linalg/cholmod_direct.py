@@ -1,4 +1,4 @@
-"""CHOLMOD called directly on cvxopt's factors: one shared symbolic analysis, numeric factorizations without the GIL.
+"""CHOLMOD called directly on cvxopt's factors: one shared symbolic analysis, orderings and factorizations without the GIL.
 
 A heat solver factors two matrices of one pattern: the heat matrix ``M + t L``
 and the grounded Laplacian (:mod:`heatcore.steps.factors`). With the same
@@ -10,8 +10,9 @@ CHOLMOD's own ``cholmod_l_copy_factor`` into a new cvxopt capsule.
 :func:`factorize` then fills a factor as ``cholmod.numeric`` does
 (``cholmod_l_factorize`` on the lower triangle), but through ctypes, which
 lets go of the GIL meanwhile: two factorizations run side by side on two
-threads (cvxopt holds the GIL while it factors). The numbers are those of
-cvxopt's own calls: the same CHOLMOD routines on the same arrays.
+threads (cvxopt holds the GIL while it factors). :func:`minimum_degree_order`
+calls AMD as ``cvxopt.amd.order`` does, also without the GIL. The numbers are
+those of cvxopt's own calls: the same routines on the same arrays.
 
 This reads cvxopt's internals (its factor capsule: name, destructor, the
 ``cholmod_factor`` inside) and calls the CHOLMOD that cvxopt's ``cholmod``
@@ -72,6 +73,11 @@ class _Library:
         for call in (self.start, self.finish):
             call.restype, call.argtypes = ctypes.c_int, (ctypes.c_void_p,)
         self.common = self.new_common()
+        amd = ctypes.CDLL(sys.modules["cvxopt.amd"].__file__)  # AMD as cvxopt.amd links it
+        self.amd_defaults, self.amd_order = amd.amd_l_defaults, amd.amd_l_order
+        self.amd_defaults.restype, self.amd_defaults.argtypes = None, (ctypes.c_void_p,)
+        self.amd_order.restype = ctypes.c_int64
+        self.amd_order.argtypes = (ctypes.c_int64,) + (ctypes.c_void_p,) * 5
         api = ctypes.pythonapi
         self.get_name = ctypes.PYFUNCTYPE(ctypes.c_void_p, ctypes.py_object)(("PyCapsule_GetName", api))
         self.get_pointer = ctypes.PYFUNCTYPE(ctypes.c_void_p, ctypes.py_object, ctypes.c_void_p)(
@@ -200,3 +206,46 @@ def factorize(factor, indptr, indices, data):
     if header[1] < header[0]:
         raise SolverError(f"sparse Cholesky factorization failed: the matrix is not positive definite "
                           f"(column {header[1]})")
+
+
+def minimum_degree_order(indptr, indices):
+    """The approximate minimum degree ordering ``cvxopt.amd.order`` gives, without the GIL.
+
+    The same call with the same arrays: AMD's default controls, on the lower
+    triangle by compressed columns.
+
+    Parameters
+    ----------
+    indptr, indices : int arrays
+        The matrix's lower triangle (with its diagonal) by compressed columns, sorted rows.
+
+    Returns
+    -------
+    (n,) int64 array
+        ``permutation[k]`` is the ``k``-th unknown eliminated.
+
+    Raises
+    ------
+    SolverError
+        AMD refused the pattern (or had no memory).
+    RuntimeError
+        :func:`available` is False.
+
+    Examples
+    --------
+    >>> minimum_degree_order(np.array([0, 2, 3, 4]), np.array([0, 2, 1, 2])).tolist()  # 0-2 joined, 1 alone
+    [1, 0, 2]
+    """
+    library = _library()
+    if library is None:
+        raise RuntimeError("AMD cannot be called directly here (see available())")
+    indptr = np.ascontiguousarray(indptr, dtype=np.int64)
+    indices = np.ascontiguousarray(indices, dtype=np.int64)
+    control = (ctypes.c_double * 5)()
+    library.amd_defaults(control)
+    permutation = np.empty(indptr.size - 1, dtype=np.int64)
+    status = library.amd_order(permutation.size, indptr.ctypes.data, indices.ctypes.data, permutation.ctypes.data,
+                               control, None)  # ctypes lets go of the GIL here
+    if status < 0:
+        raise SolverError(f"minimum degree ordering failed (AMD status {status})")
+    return permutation

@@ -167,6 +167,65 @@ def fill_reducing_ordering(A, backend):
     return Ordering(*supernodal.minimum_degree(canonical_csr(A)))
 
 
+def start_fill_reducing_ordering(A, backend):
+    """:func:`fill_reducing_ordering` started: where it can, its minimum degree runs beside the caller.
+
+    The ``supernodal`` backend's AMD runs in a background thread without the
+    GIL (:func:`heatcore.linalg.supernodal.minimum_degree`), while the caller
+    goes on (a heat solver: its components and time step).
+
+    Parameters
+    ----------
+    A : (n, n) sparse symmetric matrix
+    backend : str
+
+    Returns
+    -------
+    StartedOrdering
+        Its ``result()`` is what :func:`fill_reducing_ordering` returns.
+
+    Examples
+    --------
+    >>> import scipy.sparse as sp
+    >>> start_fill_reducing_ordering(sp.identity(3, format="csr"), "qdldl").result() is None
+    True
+    """
+    if backend != "supernodal":
+        return StartedOrdering(None)
+    from . import supernodal  # imported on first use, with cvxopt
+
+    return StartedOrdering(*supernodal.minimum_degree(canonical_csr(A), background=True))
+
+
+class StartedOrdering:
+    """An ordering being computed (:func:`start_fill_reducing_ordering`); ``result()`` waits for it.
+
+    Parameters
+    ----------
+    permutation : int array, Future of one, or None
+        None: no ordering (a backend that orders each matrix itself).
+    pattern : object, optional
+        As for :class:`Ordering`.
+
+    Examples
+    --------
+    >>> StartedOrdering([1, 0]).result().permutation
+    array([1, 0])
+    """
+
+    def __init__(self, permutation, pattern=None):
+        self._permutation, self._pattern, self._ordering = permutation, pattern, None
+
+    def result(self):
+        """The :class:`Ordering` (None for no ordering), once computed."""
+        if self._ordering is None and self._permutation is not None:
+            permutation = self._permutation
+            self._ordering = Ordering(permutation.result() if hasattr(permutation, "result") else permutation,
+                                      self._pattern)
+            self._permutation = self._pattern = None
+        return self._ordering
+
+
 def restrict_ordering(ordering, rows):
     """``ordering.restrict(rows)``, or None for no ordering.
 

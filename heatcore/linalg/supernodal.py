@@ -113,17 +113,21 @@ def _to_cvxopt(A):
     return cvxopt.spmatrix(cvxopt.matrix(data.astype(np.float64)), cvxopt_indices(row), cvxopt_indices(col), A.shape)
 
 
-def minimum_degree(A):
+def minimum_degree(A, background=False):
     """An approximate minimum degree ordering of ``A`` (CHOLMOD's AMD), and its converted pattern.
 
     Parameters
     ----------
     A : (n, n) csr_matrix
         Symmetric, canonical (sorted indices, no duplicates); only its pattern matters.
+    background : bool, default False
+        Run AMD in a background thread, without the GIL, where it can be
+        called directly (:func:`~heatcore.linalg.cholmod_direct.minimum_degree_order`):
+        the pattern is converted meanwhile, and the caller goes on.
 
     Returns
     -------
-    permutation : (n,) int array
+    permutation : (n,) int array, or a Future of it (``background``, where it runs there)
     pattern : tuple
         ``A``'s pattern as CSR (True on its upper triangle) and its lower
         triangle in cvxopt form: factorizations of matrices with exactly this
@@ -136,10 +140,16 @@ def minimum_degree(A):
     >>> sorted(np.asarray(permutation).ravel().tolist())
     [0, 1, 2]
     """
-    lower = _to_cvxopt(A)
     rows = np.repeat(np.arange(A.shape[0]), np.diff(A.indptr))
-    upper_entries = sp.csr_matrix((A.indices >= rows, A.indices, A.indptr), shape=A.shape)
-    return _cvxopt().amd.order(lower), (upper_entries, lower)
+    upper = A.indices >= rows
+    permutation = None
+    if background and cholmod_direct.available():  # the same call cvxopt.amd.order makes, on the same arrays
+        permutation = _factor_thread().submit(cholmod_direct.minimum_degree_order, *_lower_columns(A, upper)[:2])
+    lower = _to_cvxopt(A)
+    upper_entries = sp.csr_matrix((upper, A.indices, A.indptr), shape=A.shape)
+    if permutation is None:
+        permutation = _cvxopt().amd.order(lower)
+    return permutation, (upper_entries, lower)
 
 
 def _lower_triangle(A, ordering):

@@ -35,11 +35,13 @@ import scipy.sparse as sp
 from ..errors import SolverError
 from ..linalg import (
     Ordering,
+    StartedOrdering,
     factor,
     fill_reducing_ordering,
     resolve_backend,
     restrict_ordering,
     start_factor,
+    start_fill_reducing_ordering,
     start_nested_dissection,
 )
 from ..progress import Progress
@@ -129,7 +131,11 @@ class SolverFactors:
         return self._heat_flow is not None and self._poisson is not None
 
     def start(self):
-        """On large meshes: start the Laplacian's nested dissection, which runs while the heat matrix is factored."""
+        """Start the orderings: minimum degree where it runs beside the caller (the solver's time step), and on
+        large meshes the Laplacian's nested dissection, which runs while the heat matrix is factored."""
+        for backend in dict.fromkeys((self.heat_backend, self.poisson_backend)):
+            if ("ordering", backend) not in self._cache:
+                self._cache["ordering", backend] = start_fill_reducing_ordering(self._laplacian, backend)
         backend = self.poisson_backend
         if ("poisson", backend) not in self._cache and ("nested", backend) not in self._cache:
             self._cache["nested", backend] = start_nested_dissection(self._laplacian, backend)
@@ -209,9 +215,13 @@ class SolverFactors:
 
     def _ordering(self, backend):
         """The fill-reducing ordering ``backend`` uses on the domain's matrices (kept in the domain's cache)."""
-        if ("ordering", backend) not in self._cache:
-            self._cache["ordering", backend] = fill_reducing_ordering(self._laplacian, backend)
-        return self._cache["ordering", backend]
+        ordering = self._cache.get(("ordering", backend), self)
+        if ordering is self:
+            ordering = fill_reducing_ordering(self._laplacian, backend)
+        elif isinstance(ordering, StartedOrdering):
+            ordering = ordering.result()
+        self._cache["ordering", backend] = ordering
+        return ordering
 
     def _laplacian_ordering(self, backend):
         """The best ordering at hand for the Laplacian: nested dissection where it was started, else the quick one."""
