@@ -1,4 +1,4 @@
-"""CHOLMOD called directly on cvxopt's factors: one shared symbolic analysis, orderings and factorizations without the GIL.
+"""CHOLMOD called directly on cvxopt's factors: one shared symbolic analysis; orderings, analyses, factorizations without the GIL.
 
 A heat solver factors two matrices of one pattern: the heat matrix ``M + t L``
 and the grounded Laplacian (:mod:`heatcore.steps.factors`). With the same
@@ -11,7 +11,10 @@ CHOLMOD's own ``cholmod_l_copy_factor`` into a new cvxopt capsule.
 (``cholmod_l_factorize`` on the lower triangle), but through ctypes, which
 lets go of the GIL meanwhile: two factorizations run side by side on two
 threads (cvxopt holds the GIL while it factors). :func:`minimum_degree_order`
-calls AMD as ``cvxopt.amd.order`` does, also without the GIL. The numbers are
+calls AMD as ``cvxopt.amd.order`` does, and :func:`analyze` CHOLMOD's symbolic
+analysis as ``cvxopt.cholmod.symbolic`` does (setting the ``cholmod_common``
+fields cvxopt sets, at offsets checked against CHOLMOD's defaults), also
+without the GIL. The numbers are
 those of cvxopt's own calls: the same routines on the same arrays.
 
 This reads cvxopt's internals (its factor capsule: name, destructor, the
@@ -48,6 +51,15 @@ COMMON_BYTES = 1 << 16
 
 _CHOLMOD_LONG, _CHOLMOD_REAL, _CHOLMOD_DOUBLE = 2, 1, 0
 
+#: ``cholmod_common`` fields an analysis sets, as (byte offset, C type, CHOLMOD's default): the layout of
+#: CHOLMOD 3 (checked against the defaults ``cholmod_l_start`` writes before any is set).
+_COMMON_FIELDS = {
+    "grow0": (8, ctypes.c_double, 1.2), "maxrank": (32, ctypes.c_size_t, 8), "supernodal_switch": (40, ctypes.c_double, 40.0),
+    "supernodal": (48, ctypes.c_int, 1), "zrelax1": (88, ctypes.c_double, 0.1), "nrelax2": (120, ctypes.c_size_t, 48),
+    "print": (144, ctypes.c_int, 3), "nmethods": (168, ctypes.c_int, 0), "method0_ordering": (316, ctypes.c_int, 1),
+    "method1_ordering": (484, ctypes.c_int, 2), "postorder": (1864, ctypes.c_int, 1),
+}
+
 _lock = threading.Lock()  # the copies' cholmod_common, used by one thread at a time
 
 
@@ -73,6 +85,13 @@ class _Library:
         for call in (self.start, self.finish):
             call.restype, call.argtypes = ctypes.c_int, (ctypes.c_void_p,)
         self.common = self.new_common()
+        self.analyze = library.cholmod_l_analyze_p
+        self.analyze.restype = ctypes.c_void_p
+        self.analyze.argtypes = (ctypes.POINTER(_Sparse), ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t,
+                                 ctypes.c_void_p)
+        if any(kind.from_buffer(self.common, offset).value != default
+               for offset, kind, default in _COMMON_FIELDS.values()):
+            raise OSError("cholmod_common is not laid out as CHOLMOD 3's")
         amd = ctypes.CDLL(sys.modules["cvxopt.amd"].__file__)  # AMD as cvxopt.amd links it
         self.amd_defaults, self.amd_order = amd.amd_l_defaults, amd.amd_l_order
         self.amd_defaults.restype, self.amd_defaults.argtypes = None, (ctypes.c_void_p,)
@@ -85,6 +104,9 @@ class _Library:
         self.get_destructor = ctypes.PYFUNCTYPE(ctypes.c_void_p, ctypes.py_object)(("PyCapsule_GetDestructor", api))
         self.new = ctypes.PYFUNCTYPE(ctypes.py_object, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p)(
             ("PyCapsule_New", api))
+        cvxopt = sys.modules["cvxopt"]  # a factor of cvxopt's own: the name and destructor of those made here
+        self.example = cvxopt.cholmod.symbolic(cvxopt.spmatrix([1.0], [0], [0]))
+        self.name, self.destructor = self.get_name(self.example), self.get_destructor(self.example)
 
     def new_common(self):
         common = ctypes.create_string_buffer(COMMON_BYTES)
@@ -158,6 +180,65 @@ def copy_factor(factor):
     return library.new(copied, name, library.get_destructor(factor))  # cvxopt's name and destructor: it frees it
 
 
+def _lower(indptr, indices, data):
+    """The arrays of a matrix's lower triangle by columns, as CHOLMOD reads them, and its ``cholmod_sparse``."""
+    indptr = np.ascontiguousarray(indptr, dtype=np.int64)
+    indices = np.ascontiguousarray(indices, dtype=np.int64)
+    data = np.ascontiguousarray(data, dtype=np.float64)
+    n = indptr.size - 1
+    matrix = _Sparse(n, n, indices.size, indptr.ctypes.data, indices.ctypes.data, None, data.ctypes.data, None,
+                     -1, _CHOLMOD_LONG, _CHOLMOD_REAL, _CHOLMOD_DOUBLE, 1, 1)
+    return (indptr, indices, data), matrix
+
+
+def analyze(indptr, indices, data, permutation):
+    """The supernodal symbolic analysis ``cvxopt.cholmod.symbolic`` makes in a given order, without the GIL.
+
+    The same call with the same settings (supernodal, the given ordering and
+    no other: cvxopt's with ``options`` ``supernodal=2, nmethods=1``).
+
+    Parameters
+    ----------
+    indptr, indices, data : arrays
+        The matrix's lower triangle by compressed columns (as :func:`factorize`).
+    permutation : (n,) int array
+        The elimination order.
+
+    Returns
+    -------
+    PyCapsule
+        A cvxopt factor holding the analysis (for ``cholmod.numeric``, :func:`factorize`, :func:`copy_factor`).
+
+    Raises
+    ------
+    SolverError
+        CHOLMOD refused the matrix or the order (or had no memory).
+    RuntimeError
+        :func:`available` is False.
+
+    Examples
+    --------
+    >>> F = analyze(np.array([0, 2, 3]), np.array([0, 1, 1]), np.array([4.0, 1.0, 3.0]), np.array([1, 0]))
+    >>> factorize(F, np.array([0, 2, 3]), np.array([0, 1, 1]), np.array([4.0, 1.0, 3.0]))
+    """
+    library = _library()
+    if library is None:
+        raise RuntimeError("CHOLMOD cannot be called directly here (see available())")
+    arrays, matrix = _lower(indptr, indices, data)
+    permutation = np.ascontiguousarray(permutation, dtype=np.int64)
+    common = library.new_common()
+    for name, value in (("supernodal", 2), ("nmethods", 1), ("print", 0)):
+        offset, kind, _ = _COMMON_FIELDS[name]
+        kind.from_buffer(common, offset).value = value
+    try:
+        pointer = library.analyze(ctypes.byref(matrix), permutation.ctypes.data, None, 0, common)
+    finally:
+        library.finish(common)
+    if not pointer:
+        raise SolverError("sparse Cholesky factorization failed: CHOLMOD's symbolic analysis failed")
+    return library.new(pointer, library.name, library.destructor)
+
+
 def factorize(factor, indptr, indices, data):
     """Fill a cvxopt factor with the Cholesky factor of a matrix, as ``cvxopt.cholmod.numeric`` does, without the GIL.
 
@@ -189,12 +270,7 @@ def factorize(factor, indptr, indices, data):
     if library is None:
         raise RuntimeError("CHOLMOD cannot be called directly here (see available())")
     pointer, _ = library.factor_pointer(factor)
-    indptr = np.ascontiguousarray(indptr, dtype=np.int64)
-    indices = np.ascontiguousarray(indices, dtype=np.int64)
-    data = np.ascontiguousarray(data, dtype=np.float64)
-    n = indptr.size - 1
-    matrix = _Sparse(n, n, indices.size, indptr.ctypes.data, indices.ctypes.data, None, data.ctypes.data, None,
-                     -1, _CHOLMOD_LONG, _CHOLMOD_REAL, _CHOLMOD_DOUBLE, 1, 1)
+    arrays, matrix = _lower(indptr, indices, data)  # (the arrays stay alive through the call)
     common = library.new_common()  # one per call: its workspace is this thread's
     try:
         done = library.factorize(ctypes.byref(matrix), pointer, common)  # ctypes lets go of the GIL here

@@ -202,8 +202,9 @@ class StartedOrdering:
 
     Parameters
     ----------
-    permutation : int array, Future of one, or None
-        None: no ordering (a backend that orders each matrix itself).
+    permutation : int array, Future of ``(permutation, analysis)``, or None
+        None: no ordering (a backend that orders each matrix itself); the
+        analysis becomes :attr:`Ordering.analysis`.
     pattern : object, optional
         As for :class:`Ordering`.
 
@@ -219,9 +220,11 @@ class StartedOrdering:
     def result(self):
         """The :class:`Ordering` (None for no ordering), once computed."""
         if self._ordering is None and self._permutation is not None:
-            permutation = self._permutation
-            self._ordering = Ordering(permutation.result() if hasattr(permutation, "result") else permutation,
-                                      self._pattern)
+            permutation, analysis = self._permutation, None
+            if hasattr(permutation, "result"):  # a Future of the permutation and the backend's analysis in its order
+                permutation, analysis = permutation.result()
+            self._ordering = Ordering(permutation, self._pattern)
+            self._ordering.analysis = analysis
             self._permutation = self._pattern = None
         return self._ordering
 

@@ -121,17 +121,19 @@ def minimum_degree(A, background=False):
     A : (n, n) csr_matrix
         Symmetric, canonical (sorted indices, no duplicates); only its pattern matters.
     background : bool, default False
-        Run AMD in a background thread, without the GIL, where it can be
-        called directly (:func:`~heatcore.linalg.cholmod_direct.minimum_degree_order`):
-        the pattern is converted meanwhile, and the caller goes on.
+        Run AMD, and CHOLMOD's symbolic analysis in its order, in a
+        background thread without the GIL where they can be called directly
+        (:mod:`heatcore.linalg.cholmod_direct`): the caller goes on meanwhile.
 
     Returns
     -------
-    permutation : (n,) int array, or a Future of it (``background``, where it runs there)
+    permutation : (n,) int array, or with ``background`` (where it runs there) a Future of
+        ``(permutation, analysis)``: the order and CHOLMOD's symbolic analysis of ``A`` in it
     pattern : tuple
         ``A``'s pattern as CSR (True on its upper triangle) and its lower
-        triangle in cvxopt form: factorizations of matrices with exactly this
-        pattern copy only their values into it.
+        triangle in cvxopt form (None where CHOLMOD is called directly, which
+        needs none): factorizations of matrices with exactly this pattern copy
+        only their values into it.
 
     Examples
     --------
@@ -142,20 +144,26 @@ def minimum_degree(A, background=False):
     """
     rows = np.repeat(np.arange(A.shape[0]), np.diff(A.indptr))
     upper = A.indices >= rows
-    permutation = None
-    if background and cholmod_direct.available():  # the same call cvxopt.amd.order makes, on the same arrays
-        permutation = _factor_thread().submit(cholmod_direct.minimum_degree_order, *_lower_columns(A, upper)[:2])
-    lower = _to_cvxopt(A)
     upper_entries = sp.csr_matrix((upper, A.indices, A.indptr), shape=A.shape)
-    if permutation is None:
-        permutation = _cvxopt().amd.order(lower)
-    return permutation, (upper_entries, lower)
+    if cholmod_direct.available():  # the calls cvxopt makes, on the same arrays; no cvxopt matrix needed
+        lower = _lower_columns(A, upper)
+        if background:
+            return _factor_thread().submit(_ordered_and_analysed, lower), (upper_entries, None)
+        return cholmod_direct.minimum_degree_order(*lower[:2]), (upper_entries, None)
+    lower = _to_cvxopt(A)
+    return _cvxopt().amd.order(lower), (upper_entries, lower)
+
+
+def _ordered_and_analysed(lower):
+    """``(permutation, analysis)``: AMD's order of the lower triangle ``lower`` and CHOLMOD's analysis in that order."""
+    permutation = cholmod_direct.minimum_degree_order(*lower[:2])
+    return permutation, cholmod_direct.analyze(*lower, permutation)
 
 
 def _lower_triangle(A, ordering):
     """``A``'s lower triangle in cvxopt form, reusing the ordering's converted pattern where ``A`` has it."""
     pattern = _same_pattern(A, ordering)
-    if pattern is not None:
+    if pattern is not None and pattern[1] is not None:
         csr, lower = pattern
         # The lower triangle by columns is the upper triangle by rows (A is symmetric).
         lower.V = _cvxopt().matrix(A.data[csr.data.astype(bool)])
@@ -181,17 +189,15 @@ def _lower_columns(A, upper):
     return before[A.indptr], A.indices[upper], A.data[upper]
 
 
-def _analysis(A, ordering, pattern):
-    """A symbolic factor of ``A`` in the ordering's order: a copy of the ordering's analysis where ``A`` has its
-    ``pattern`` and one is kept (:func:`~heatcore.linalg.cholmod_direct.copy_factor`), else a new one (then a copy
-    kept for the next matrix of the pattern: ``numeric`` overwrites the factor it fills)."""
+def _analysis(lower, ordering, pattern):
+    """A symbolic factor of the lower triangle ``lower`` in the ordering's order: a copy of the ordering's analysis
+    where the matrix has its ``pattern`` and one is kept (:func:`~heatcore.linalg.cholmod_direct.copy_factor`), else
+    a new one (then a copy kept for the next matrix of the pattern: a factorization overwrites its factor)."""
     if pattern is not None and ordering.analysis is not None:
         analysis = copy_factor(ordering.analysis)
         if analysis is not None:
             return analysis
-    with cholmod_options(supernodal=2, nmethods=1):  # supernodal; the given ordering, no other tried
-        analysis = _cvxopt().cholmod.symbolic(_lower_triangle(A, ordering), p=cvxopt_indices(ordering.permutation),
-                                              uplo="L")
+    analysis = cholmod_direct.analyze(*lower, ordering.permutation)
     if pattern is not None:
         ordering.analysis = copy_factor(analysis)
     return analysis
@@ -259,8 +265,9 @@ class SupernodalFactor(Factor):
                 pattern = _same_pattern(A, ordering)
                 rows = None if pattern is not None else np.repeat(np.arange(self.n), np.diff(A.indptr))
                 upper = pattern[0].data.astype(bool) if pattern is not None else A.indices >= rows
-                self._factor = _analysis(A, ordering, pattern)
-                numeric = functools.partial(cholmod_direct.factorize, self._factor, *_lower_columns(A, upper))
+                lower = _lower_columns(A, upper)
+                self._factor = _analysis(lower, ordering, pattern)
+                numeric = functools.partial(cholmod_direct.factorize, self._factor, *lower)
                 if background:
                     self._pending = _factor_thread().submit(numeric)
                 else:
