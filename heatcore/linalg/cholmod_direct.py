@@ -38,6 +38,7 @@ Examples
 """
 
 import ctypes
+import os
 import sys
 import threading
 
@@ -61,6 +62,14 @@ _COMMON_FIELDS = {
 }
 
 _lock = threading.Lock()  # the copies' cholmod_common, used by one thread at a time
+
+
+def _new_lock():
+    global _lock
+    _lock = threading.Lock()  # a forked child has no thread that could hold the parent's
+
+
+os.register_at_fork(after_in_child=_new_lock)
 
 
 class _Sparse(ctypes.Structure):

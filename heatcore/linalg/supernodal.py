@@ -23,6 +23,7 @@ True
 
 import contextlib
 import functools
+import os
 import threading
 from concurrent.futures import ThreadPoolExecutor
 
@@ -32,7 +33,7 @@ import scipy.sparse as sp
 from ..errors import SolverError
 from .backends import SUPERNODAL_MIN_SIZE
 from .interface import Factor, canonical_csr
-from .libraries import once, optional
+from .libraries import optional
 from .memory import release_free_memory
 from . import cholmod_direct
 from .cholmod_direct import copy_factor
@@ -203,10 +204,17 @@ def _analysis(lower, ordering, pattern):
     return analysis
 
 
-@once
+_threads_lock = threading.Lock()
+_threads = {}  # the background thread's executor, made on first use; forgotten in a forked child (no thread there)
+os.register_at_fork(after_in_child=_threads.clear)
+
+
 def _factor_thread():
-    """The thread that runs background factorizations (:class:`SupernodalFactor`'s ``background``), made on first use."""
-    return ThreadPoolExecutor(max_workers=1, thread_name_prefix="heatcore-factor")
+    """The thread that runs background orderings and factorizations (:class:`SupernodalFactor`'s ``background``)."""
+    with _threads_lock:
+        if "factor" not in _threads:
+            _threads["factor"] = ThreadPoolExecutor(max_workers=1, thread_name_prefix="heatcore-factor")
+        return _threads["factor"]
 
 
 class SupernodalFactor(Factor):
