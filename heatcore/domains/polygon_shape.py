@@ -214,16 +214,14 @@ def _cross3(a, b):
 
 def _segments_cross(flat, a, b):
     """Whether side ``a[j]`` crosses side ``b[j]`` of each polygon (a proper crossing, not a touch)."""
-    start, end = flat, np.roll(flat, -1, axis=1)
-    p, q = start[:, a], end[:, a]
-    r, s = start[:, b], end[:, b]
-
-    def orientation(o, u, v):
-        return (u[..., 0] - o[..., 0]) * (v[..., 1] - o[..., 1]) - (u[..., 1] - o[..., 1]) * (v[..., 0] - o[..., 0])
-
+    x, y = flat[..., 0], flat[..., 1]  # one coordinate at a time; each difference made once (the same numbers)
+    nx, ny = np.roll(x, -1, axis=1), np.roll(y, -1, axis=1)
+    px, py, qx, qy = x[:, a], y[:, a], nx[:, a], ny[:, a]  # side a from p to q, side b from r to s
+    rx, ry, sx, sy = x[:, b], y[:, b], nx[:, b], ny[:, b]
+    ux, uy, vx, vy = qx - px, qy - py, sx - rx, sy - ry
+    d1, d2 = ux * (ry - py) - uy * (rx - px), ux * (sy - py) - uy * (sx - px)  # orientation(p, q, r), (p, q, s)
+    d3, d4 = vx * (py - ry) - vy * (px - rx), vx * (qy - ry) - vy * (qx - rx)  # orientation(r, s, p), (r, s, q)
     scale = row_max(np.abs(flat.reshape(flat.shape[0], -1)))[:, None] ** 2 * 1e-12 + np.finfo(float).tiny
-    d1, d2 = orientation(p, q, r), orientation(p, q, s)
-    d3, d4 = orientation(r, s, p), orientation(r, s, q)
     return (d1 * d2 < 0) & (d3 * d4 < 0) & (np.minimum(np.abs(d1), np.abs(d2)) > scale) & (
         np.minimum(np.abs(d3), np.abs(d4)) > scale
     )
