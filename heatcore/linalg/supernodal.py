@@ -132,9 +132,10 @@ def minimum_degree(A, background=False):
         ``(permutation, analysis)``: the order and CHOLMOD's symbolic analysis of ``A`` in it
     pattern : tuple
         ``A``'s pattern as CSR (True on its upper triangle) and its lower
-        triangle in cvxopt form (None where CHOLMOD is called directly, which
-        needs none): factorizations of matrices with exactly this pattern copy
-        only their values into it.
+        triangle in cvxopt form, or where CHOLMOD is called directly None and
+        the lower triangle by columns (``indptr``, ``indices``, and the
+        positions of its entries in ``A.data``): factorizations of matrices
+        with exactly this pattern take only their values.
 
     Examples
     --------
@@ -148,9 +149,10 @@ def minimum_degree(A, background=False):
     upper_entries = sp.csr_matrix((upper, A.indices, A.indptr), shape=A.shape)
     if cholmod_direct.available():  # the calls cvxopt makes, on the same arrays; no cvxopt matrix needed
         lower = _lower_columns(A, upper)
+        pattern = (upper_entries, None, (lower[0], lower[1], np.flatnonzero(upper)))
         if background:
-            return _factor_thread().submit(_ordered_and_analysed, lower), (upper_entries, None)
-        return cholmod_direct.minimum_degree_order(*lower[:2]), (upper_entries, None)
+            return _factor_thread().submit(_ordered_and_analysed, lower), pattern
+        return cholmod_direct.minimum_degree_order(*lower[:2]), pattern
     lower = _to_cvxopt(A)
     return _cvxopt().amd.order(lower), (upper_entries, lower)
 
@@ -165,7 +167,7 @@ def _lower_triangle(A, ordering):
     """``A``'s lower triangle in cvxopt form, reusing the ordering's converted pattern where ``A`` has it."""
     pattern = _same_pattern(A, ordering)
     if pattern is not None and pattern[1] is not None:
-        csr, lower = pattern
+        csr, lower = pattern[:2]
         # The lower triangle by columns is the upper triangle by rows (A is symmetric).
         lower.V = _cvxopt().matrix(A.data[csr.data.astype(bool)])
         return lower
@@ -271,9 +273,13 @@ class SupernodalFactor(Factor):
                     cholmod.numeric(C, self._factor)
             else:  # CHOLMOD called directly: a shared analysis, the numeric factorization without the GIL
                 pattern = _same_pattern(A, ordering)
-                rows = None if pattern is not None else np.repeat(np.arange(self.n), np.diff(A.indptr))
-                upper = pattern[0].data.astype(bool) if pattern is not None else A.indices >= rows
-                lower = _lower_columns(A, upper)
+                if pattern is not None and len(pattern) > 2:  # the lower triangle's columns, kept: only values taken
+                    indptr, indices, entries = pattern[2]
+                    lower = (indptr, indices, A.data[entries])
+                else:
+                    rows = None if pattern is not None else np.repeat(np.arange(self.n), np.diff(A.indptr))
+                    upper = pattern[0].data.astype(bool) if pattern is not None else A.indices >= rows
+                    lower = _lower_columns(A, upper)
                 self._factor = _analysis(lower, ordering, pattern)
                 numeric = functools.partial(cholmod_direct.factorize, self._factor, *lower)
                 if background:
