@@ -365,7 +365,9 @@ def prepare_run(obj, sources=None, *, vertex_group=None, space="WORLD", shape="E
         run.placement = Placement.between(run.key[2], frame)
     else:
         SOLVERS.discard(run.cache_id)  # free the stale solver before building
-        run.F = read_triangles(obj, topology, new_object)  # also for polygons: merged duplicates are measured as triangles
+        # Polygons need them only where merging may measure them as triangles instead (polygon_domain, weld set)
+        if new_object or not as_polygons or settings.mesh.weld is not None:
+            run.F = read_triangles(obj, topology, new_object)
         run.polygons = (topology[1:] if new_object else polygon_arrays(mesh, topology[:2])) if as_polygons else None
         run.key = run_key(V, topology, frame, settings, as_polygons, points_only, copy=True)  # kept with the solver
     return run

@@ -17,6 +17,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 NOT_BY_DOMAIN = {
     "heatcore/apps/cli.py COMMANDS": "subcommands, by name",
     "heatcore/linalg/libraries.py _modules": "optional libraries, by module name",
+    "heatcore/linalg/supernodal.py _threads": "the background factorization's thread pool, by role (cleared in a forked child)",
     "blender_addon/undo.py _BEFORE_RUN": "a Blender mesh's active colour before a run, by the mesh's name",
 }
 

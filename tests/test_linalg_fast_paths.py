@@ -1,7 +1,8 @@
 """The fast paths that read another library's internals are taken where they should be.
 
 heatcore reads cvxopt's ``cholmod_factor`` (sparse right-hand sides in the heat
-step) and calls the METIS inside pymetis (nested dissection) through ctypes,
+step), calls the CHOLMOD that cvxopt links (a shared symbolic analysis, numeric
+factorizations without the GIL) and the METIS inside pymetis (nested dissection) through ctypes,
 on the versions in ``libraries.READ_INTERNALS_OF``. On those versions these
 tests FAIL, not skip, when a fast path is not taken (a reader that declines a
 layout it should know, a solver that stops routing through it); on another
@@ -100,6 +101,84 @@ def test_metis_nested_dissection_is_taken_on_the_pymetis_it_was_written_for(monk
     else:
         assert reader is None and taken == 0
         assert warnings_about(caplog, "METIS")
+
+
+def _cvxopt_factor(A, permutation):
+    """The supernodal factor of ``A`` as cvxopt alone makes it (its symbolic and numeric calls), in this order."""
+    from heatcore.linalg import cholmod_direct, supernodal
+
+    available = cholmod_direct.available
+    cholmod_direct.available = lambda: False
+    try:
+        return supernodal.SupernodalFactor(A, linalg.Ordering(permutation))
+    finally:
+        cholmod_direct.available = available
+
+
+def test_one_symbolic_analysis_serves_both_matrices_of_a_pattern(fresh_warnings, caplog):
+    """The heat matrix and the Laplacian of one solver share CHOLMOD's analysis; the numbers are cvxopt's own."""
+    require("cvxopt")
+    from heatcore.linalg import cholmod_direct
+
+    A = heat_matrix(40, 40).tocsr()
+    B = A.copy()
+    B.data = B.data * np.where(B.indices == np.repeat(np.arange(B.shape[0]), np.diff(B.indptr)), 3.0, 0.5)
+    ordering = linalg.fill_reducing_ordering(A, "supernodal")
+    before = libraries.fast_path_counts["shared_symbolic"]
+    with caplog.at_level("WARNING", logger="heatcore.linalg"):
+        first, second = linalg.factor(A, "supernodal", ordering=ordering), linalg.factor(B, "supernodal", ordering=ordering)
+    b = np.random.default_rng(0).standard_normal((A.shape[0], 2))
+    for matrix, f in ((A, first), (B, second)):
+        assert np.array_equal(f.solve(b), _cvxopt_factor(matrix, ordering.permutation).solve(b))  # bit for bit
+    taken = libraries.fast_path_counts["shared_symbolic"] - before
+    if known("cvxopt"):
+        assert cholmod_direct.available(), f"cvxopt {libraries.version('cvxopt')}: CHOLMOD could not be reached"
+        assert ordering.analysis is not None and taken == 2, "the second matrix made its own analysis"
+        assert not warnings_about(caplog, "CHOLMOD called directly")
+    else:
+        assert ordering.analysis is None and taken == 0
+        assert warnings_about(caplog, "CHOLMOD called directly")
+    ordering.forget_pattern()
+    assert ordering.analysis is None
+
+
+def test_a_factorization_started_in_the_background_is_the_same_and_says_when_it_fails():
+    require("cvxopt")
+    A = heat_matrix(40, 40)
+    ordering = linalg.fill_reducing_ordering(A, "supernodal")
+    started = linalg.start_factor(A, "supernodal", ordering=ordering)
+    b = np.random.default_rng(1).standard_normal(A.shape[0])
+    assert np.array_equal(started.result().solve(b), _cvxopt_factor(A, ordering.permutation).solve(b))
+    broken = linalg.start_factor(-A, "supernodal", ordering=linalg.Ordering(ordering.permutation))
+    for _ in range(2):  # every later use says it again
+        with pytest.raises(hc.SolverError, match="not positive definite"):
+            broken.result()
+
+
+def test_minimum_degree_started_in_the_background_is_cvxopts_own():
+    require("cvxopt")
+    A = heat_matrix(40, 40).tocsr()
+    started = linalg.start_fill_reducing_ordering(A, "supernodal")
+    from heatcore.linalg import supernodal
+
+    from heatcore.linalg import cholmod_direct
+
+    available = cholmod_direct.available
+    cholmod_direct.available = lambda: False
+    try:
+        own, _ = supernodal.minimum_degree(A)  # cvxopt.amd.order
+    finally:
+        cholmod_direct.available = available
+    ordering = started.result()
+    assert np.array_equal(ordering.permutation, np.asarray(own).ravel())
+    assert ordering.pattern is not None
+    if known("cvxopt"):  # CHOLMOD's analysis in that order came with it, and the factors copy it
+        assert ordering.analysis is not None
+        b = np.random.default_rng(2).standard_normal(A.shape[0])
+        before = libraries.fast_path_counts["shared_symbolic"]
+        x = linalg.factor(A, "supernodal", ordering=ordering).solve(b)
+        assert libraries.fast_path_counts["shared_symbolic"] > before
+        assert np.array_equal(x, _cvxopt_factor(A, ordering.permutation).solve(b))
 
 
 def test_the_readers_know_the_versions_the_blender_extension_bundles():

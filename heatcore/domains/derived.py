@@ -28,7 +28,8 @@ from collections.abc import MutableMapping
 
 #: The kinds of entry heatcore keeps, with who keeps them and what ``variant`` is.
 KINDS = {
-    "ordering": "linalg fill-reducing ordering of the Laplacian's pattern (steps/factors.py); variant: backend",
+    "ordering": "linalg fill-reducing ordering of the Laplacian's pattern (steps/factors.py): a StartedOrdering "
+                "while it may run, then an Ordering or None; variant: backend",
     "nested": "METIS nested dissection: a Future while it runs, then an Ordering or None; variant: backend",
     "poisson": "factor of the grounded Laplacian, shared by the domain's solvers; variant: backend",
     "vector frames": "vertex frames, connection Laplacian, translation matrix, tangent basis (vector_heat); None",

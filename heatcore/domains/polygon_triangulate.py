@@ -42,7 +42,7 @@ import numpy as np
 
 from .ear_clipping import delaunay_triangles
 from .parts import vertex_components
-from .polygon_shape import plane_coordinates
+from .polygon_shape import plane_coordinates, row_max, row_min
 
 #: Relative size (of a polygon's squared extent) below which a corner's turn counts as none (rounding).
 STRAIGHT_TOLERANCE = 1e-9
@@ -211,9 +211,12 @@ def _cross(a, b, c):
 
 
 def _counterclockwise(Q):
-    """Polygons ``(p, k, 2)`` mirrored where their signed area is negative (the corner order kept)."""
-    area = _cross(np.zeros(2), Q, np.roll(Q, -1, axis=1)).sum(axis=1)
-    return np.where((area < 0)[:, None, None], Q * [1.0, -1.0], Q)
+    """Polygons ``(p, k, 2)`` mirrored where their signed area is negative (the corner order kept): a new array."""
+    x, y = Q[..., 0], Q[..., 1]  # _cross(0, Q, next)'s numbers (x - 0 is x), one coordinate at a time
+    area = (x * np.roll(y, -1, axis=1) - y * np.roll(x, -1, axis=1)).sum(axis=1)
+    Q = Q.copy()
+    Q[area < 0, :, 1] *= -1.0
+    return Q
 
 
 def _quad_splits(Q, idx):
@@ -229,8 +232,11 @@ def _quad_splits(Q, idx):
     excess = _angle(Q, 1, 0, 2) + _angle(Q, 3, 2, 0) - np.pi  # angles at corners 1 and 3
     straight_02 = np.where(np.abs(excess) <= COCIRCULAR_RADIANS, _either_diagonal(idx), excess <= 0)
     # a dart's reflex corner must end the diagonal: 0-2 is outside when corner 1 or 3 is reflex
-    turn = _cross(np.roll(Q, 1, axis=1), Q, np.roll(Q, -1, axis=1))
-    reflex = turn < -STRAIGHT_TOLERANCE * np.ptp(Q, axis=1).max(axis=1, keepdims=True) ** 2
+    x, y = Q[..., 0], Q[..., 1]  # _cross(previous, Q, next), one coordinate at a time
+    px, py = np.roll(x, 1, axis=1), np.roll(y, 1, axis=1)
+    turn = (x - px) * (np.roll(y, -1, axis=1) - py) - (y - py) * (np.roll(x, -1, axis=1) - px)
+    spans = row_max(Q) - row_min(Q)  # np.ptp(Q, axis=1), (p, 2)
+    reflex = turn < -STRAIGHT_TOLERANCE * np.maximum(spans[:, 0], spans[:, 1])[:, None] ** 2
     use_02 = np.where(reflex[:, [1, 3]].any(axis=1), False, np.where(reflex[:, [0, 2]].any(axis=1), True, straight_02))
     a = np.array([[0, 1, 2], [0, 2, 3]])
     b = np.array([[0, 1, 3], [1, 2, 3]])

@@ -32,9 +32,11 @@ Modules: :mod:`~heatcore.linalg.interface` (the :class:`Factor` interface),
 one per backend (:mod:`~heatcore.linalg.supernodal`,
 :mod:`~heatcore.linalg.qdldl`, :mod:`~heatcore.linalg.cholmod`,
 :mod:`~heatcore.linalg.superlu`); :mod:`~heatcore.linalg.ordering`;
-:mod:`~heatcore.linalg.metis` and :mod:`~heatcore.linalg.sparse_rhs` (the two
-readers of another library's internals, through ctypes: the only ones in
-heatcore); :mod:`~heatcore.linalg.memory`; :mod:`~heatcore.linalg.libraries`
+:mod:`~heatcore.linalg.metis`, :mod:`~heatcore.linalg.sparse_rhs` and
+:mod:`~heatcore.linalg.cholmod_direct` (the readers of another library's
+internals, through ctypes: the only ones in heatcore; the last calls cvxopt's
+CHOLMOD and AMD without the GIL, so that :func:`start_factor` and
+:func:`start_fill_reducing_ordering` run beside the caller); :mod:`~heatcore.linalg.memory`; :mod:`~heatcore.linalg.libraries`
 (optional libraries loaded on first use, the versions the readers know, the
 fast-path counters). Importing this package loads no optional library, opens
 no shared library and starts no thread; linalg keeps nothing per matrix or
@@ -60,14 +62,16 @@ from .backends import (
     resolve_backend,
 )
 from .columns import solve_columns
-from .factor import factor
+from .factor import StartedFactor, factor, start_factor
 from .interface import Factor
 from .memory import release_free_memory
 from .ordering import (
     NESTED_DISSECTION_MIN_SIZE,
     Ordering,
+    StartedOrdering,
     fill_reducing_ordering,
     restrict_ordering,
+    start_fill_reducing_ordering,
     start_nested_dissection,
 )
 
@@ -77,6 +81,8 @@ __all__ = [
     "SUPERNODAL_MIN_SIZE",
     "Factor",
     "Ordering",
+    "StartedFactor",
+    "StartedOrdering",
     "available_backends",
     "choose_backend",
     "factor",
@@ -85,5 +91,7 @@ __all__ = [
     "resolve_backend",
     "restrict_ordering",
     "solve_columns",
+    "start_factor",
+    "start_fill_reducing_ordering",
     "start_nested_dissection",
 ]

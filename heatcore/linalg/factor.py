@@ -83,3 +83,81 @@ def factor(A, backend="auto", prefer="factor", ordering=None):
         raise SolverError(f"backend {backend!r} needs the {library} package{extra}")
     # The backend's module is imported on first use, like its library.
     return getattr(importlib.import_module(f".{module}", __package__), factor_class)(A, ordering)
+
+
+def start_factor(A, backend="auto", prefer="factor", ordering=None):
+    """Start factoring a matrix where it can run beside the caller; ``result()`` gives the :class:`Factor`.
+
+    The ``supernodal`` backend with an ``ordering`` (and CHOLMOD within reach:
+    :mod:`~heatcore.linalg.cholmod_direct`) makes its symbolic analysis here
+    and runs the numeric factorization in a background thread, without the
+    GIL, while the caller factors another matrix. Every other case factors
+    when ``result()`` is first called, as :func:`factor` would.
+
+    Parameters
+    ----------
+    A, backend, prefer, ordering
+        As for :func:`factor`.
+
+    Returns
+    -------
+    StartedFactor
+
+    Raises
+    ------
+    SolverError
+        As :func:`factor` (from ``result()`` where the work is done there).
+
+    Examples
+    --------
+    >>> import numpy as np, scipy.sparse as sp
+    >>> started = start_factor(sp.diags([2.0, 4.0]).tocsc(), "superlu")
+    >>> started.result().solve(np.array([2.0, 4.0]))
+    array([1., 1.])
+    """
+    if backend == "auto":
+        backend = choose_backend(A.shape[0], prefer)
+    if backend == "supernodal" and ordering is not None and optional("cvxopt") is not None:
+        from . import cholmod_direct, supernodal  # imported on first use, with cvxopt
+
+        if cholmod_direct.available():
+            return StartedFactor(supernodal.SupernodalFactor(A, ordering, background=True))
+    return StartedFactor(None, lambda: factor(A, backend, prefer, ordering))
+
+
+class StartedFactor:
+    """A factorization started by :func:`start_factor`.
+
+    Parameters
+    ----------
+    started : Factor or None
+        A factor whose numeric factorization runs in the background.
+    later : callable, optional
+        Where none runs: makes the factor, on the first :meth:`result`.
+
+    Examples
+    --------
+    >>> import scipy.sparse as sp
+    >>> started = StartedFactor(None, lambda: factor(sp.identity(2, format="csc"), "superlu"))
+    >>> started.result() is started.result()
+    True
+    """
+
+    def __init__(self, started, later=None):
+        self._factor, self._later = started, later
+
+    def result(self):
+        """The factor, once done (waiting for it, or making it now).
+
+        Returns
+        -------
+        Factor
+
+        Raises
+        ------
+        SolverError
+            The factorization failed.
+        """
+        if self._factor is None:
+            self._factor, self._later = self._later(), None
+        return self._factor.wait()

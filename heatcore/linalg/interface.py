@@ -82,6 +82,32 @@ class Factor(abc.ABC):
             return np.zeros(b.shape)
         return self._solve(b)
 
+    def wait(self):
+        """Wait until the factorization is done (one started in the background); return the factor.
+
+        Only the ``supernodal`` backend factors in the background
+        (:func:`heatcore.linalg.start_factor`); the others are done when made.
+
+        Returns
+        -------
+        Factor
+            Itself.
+
+        Raises
+        ------
+        SolverError
+            A factorization made in the background failed.
+
+        Examples
+        --------
+        >>> import scipy.sparse as sp
+        >>> from heatcore.linalg import factor
+        >>> f = factor(sp.identity(2, format="csc"), "superlu")
+        >>> f.wait() is f
+        True
+        """
+        return self
+
     @abc.abstractmethod
     def _solve(self, b):
         """The backend's solve: ``b`` is a float64 array of shape ``(n,)`` or ``(n, k)``, ``k >= 1``."""

@@ -59,6 +59,11 @@ class Ordering:
     ----------
     permutation : (n,) int64 array
     pattern : object or None
+    analysis : object or None
+        The backend's symbolic analysis of the pattern in this order, kept by
+        the first factorization of a matrix with the pattern for the others
+        (the ``supernodal`` backend's: a CHOLMOD symbolic factor,
+        :mod:`heatcore.linalg.symbolic`).
 
     Examples
     --------
@@ -69,9 +74,10 @@ class Ordering:
     def __init__(self, permutation, pattern=None):
         self.permutation = np.asarray(permutation, dtype=np.int64).ravel()
         self.pattern = pattern
+        self.analysis = None
 
     def forget_pattern(self):
-        """Drop the converted pattern (its memory); later factorizations convert their matrix.
+        """Drop the converted pattern and the symbolic analysis (their memory); later factorizations make their own.
 
         Examples
         --------
@@ -80,7 +86,7 @@ class Ordering:
         >>> ordering.pattern is None
         True
         """
-        self.pattern = None
+        self.pattern = self.analysis = None
 
     def reordered(self, permutation):
         """Another ordering of the same pattern (sharing its converted pattern).
@@ -159,6 +165,68 @@ def fill_reducing_ordering(A, backend):
     from . import supernodal  # imported on first use, with cvxopt
 
     return Ordering(*supernodal.minimum_degree(canonical_csr(A)))
+
+
+def start_fill_reducing_ordering(A, backend):
+    """:func:`fill_reducing_ordering` started: where it can, its minimum degree runs beside the caller.
+
+    The ``supernodal`` backend's AMD runs in a background thread without the
+    GIL (:func:`heatcore.linalg.supernodal.minimum_degree`), while the caller
+    goes on (a heat solver: its components and time step).
+
+    Parameters
+    ----------
+    A : (n, n) sparse symmetric matrix
+    backend : str
+
+    Returns
+    -------
+    StartedOrdering
+        Its ``result()`` is what :func:`fill_reducing_ordering` returns.
+
+    Examples
+    --------
+    >>> import scipy.sparse as sp
+    >>> start_fill_reducing_ordering(sp.identity(3, format="csr"), "qdldl").result() is None
+    True
+    """
+    if backend != "supernodal":
+        return StartedOrdering(None)
+    from . import supernodal  # imported on first use, with cvxopt
+
+    return StartedOrdering(*supernodal.minimum_degree(canonical_csr(A), background=True))
+
+
+class StartedOrdering:
+    """An ordering being computed (:func:`start_fill_reducing_ordering`); ``result()`` waits for it.
+
+    Parameters
+    ----------
+    permutation : int array, Future of ``(permutation, analysis)``, or None
+        None: no ordering (a backend that orders each matrix itself); the
+        analysis becomes :attr:`Ordering.analysis`.
+    pattern : object, optional
+        As for :class:`Ordering`.
+
+    Examples
+    --------
+    >>> StartedOrdering([1, 0]).result().permutation
+    array([1, 0])
+    """
+
+    def __init__(self, permutation, pattern=None):
+        self._permutation, self._pattern, self._ordering = permutation, pattern, None
+
+    def result(self):
+        """The :class:`Ordering` (None for no ordering), once computed."""
+        if self._ordering is None and self._permutation is not None:
+            permutation, analysis = self._permutation, None
+            if hasattr(permutation, "result"):  # a Future of the permutation and the backend's analysis in its order
+                permutation, analysis = permutation.result()
+            self._ordering = Ordering(permutation, self._pattern)
+            self._ordering.analysis = analysis
+            self._permutation = self._pattern = None
+        return self._ordering
 
 
 def restrict_ordering(ordering, rows):

@@ -35,10 +35,13 @@ import scipy.sparse as sp
 from ..errors import SolverError
 from ..linalg import (
     Ordering,
+    StartedOrdering,
     factor,
     fill_reducing_ordering,
     resolve_backend,
     restrict_ordering,
+    start_factor,
+    start_fill_reducing_ordering,
     start_nested_dissection,
 )
 from ..progress import Progress
@@ -133,7 +136,11 @@ class SolverFactors:
         return self._heat_flow is not None and self._poisson is not None
 
     def start(self):
-        """On large meshes: start the Laplacian's nested dissection, which runs while the heat matrix is factored."""
+        """Start the orderings: minimum degree where it runs beside the caller (the solver's time step), and on
+        large meshes the Laplacian's nested dissection, which runs while the heat matrix is factored."""
+        for backend in dict.fromkeys((self.heat_backend, self.poisson_backend)):
+            if ("ordering", backend) not in self._cache:
+                self._cache["ordering", backend] = start_fill_reducing_ordering(self._laplacian, backend)
         backend = self.poisson_backend
         if ("poisson", backend) not in self._cache and ("nested", backend) not in self._cache:
             self._cache["nested", backend] = start_nested_dissection(self._laplacian, backend)
@@ -152,22 +159,36 @@ class SolverFactors:
         progress : Progress
         """
         self._deferred = None
+        backend = self.poisson_backend
+        poisson = None
+        # Both matrices are assembled before anything waits for the orderings (which may still run, see start()).
         start = time.perf_counter()
-        shares = np.linspace(0.05, 0.7, len(heat.multiples) + 1)
-        steps = ("",) if len(heat.multiples) == 1 else ("short step", "long step")
-        flows = [self._factor_heat(heat, multiple, step, progress.part(shares[i], shares[i + 1]))
-                 for i, (multiple, step) in enumerate(zip(heat.multiples, steps))]
-        self._heat_flow, self._long_flow = flows[0], (flows[1] if len(flows) > 1 else None)
+        matrices = [heat_matrix(self.ops.mass, multiple * heat.time_step, self.ops.laplacian) for multiple in heat.multiples]
         self.timings["heat factorization"] = time.perf_counter() - start
+        if ("poisson", backend) not in self._cache and not isinstance(self._cache.get(("nested", backend)), Future):
+            # It runs beside the heat matrix's where the backend lets it (else it is made below, as it would be).
+            start = time.perf_counter()
+            K = grounded(self._laplacian, heat.ground)
+            poisson = start_factor(K, backend, ordering=self._laplacian_ordering(backend))
+            self.timings["poisson factorization"] = time.perf_counter() - start
+        start = time.perf_counter()
+        shares = np.linspace(0.05, 0.7, len(matrices) + 1)
+        steps = ("",) if len(matrices) == 1 else ("short step", "long step")
+        flows = [self._factor_heat(heat, matrix, multiple * heat.time_step, step, progress.part(shares[i], shares[i + 1]))
+                 for i, (matrix, multiple, step) in enumerate(zip(matrices, heat.multiples, steps))]
+        self._heat_flow, self._long_flow = flows[0], (flows[1] if len(flows) > 1 else None)
+        self.timings["heat factorization"] += time.perf_counter() - start
         start = time.perf_counter()
         progress(0.7, "factoring the Poisson matrix")
-        backend = self.poisson_backend
         if ("poisson", backend) not in self._cache:
-            K = grounded(self._laplacian, heat.ground)
-            self._cache["poisson", backend] = factor(K, backend, ordering=self._laplacian_ordering(backend))
+            if poisson is None:
+                poisson = start_factor(grounded(self._laplacian, heat.ground), backend,
+                                       ordering=self._laplacian_ordering(backend))
+            self._cache["poisson", backend] = poisson.result()
         self._poisson = PinnedPoisson(self._laplacian, self._cache["poisson", backend], heat.ground, heat.component,
                                       heat.n_components, self.factor_free)
-        self.timings["poisson factorization"] = time.perf_counter() - start
+        self.timings["poisson factorization"] = self.timings.get("poisson factorization", 0.0) + (
+            time.perf_counter() - start)
         for ordering in self._cache.values():
             if isinstance(ordering, Ordering):
                 ordering.forget_pattern()  # its memory matters more than re-converting for another m
@@ -194,12 +215,10 @@ class SolverFactors:
             self.start()
             self.build(heat, Progress(progress))
 
-    def _factor_heat(self, heat, multiple, step_name, progress):
-        """Factor ``M + multiple t L`` for the boundary condition (Neumann, interior-only Dirichlet, or both);
+    def _factor_heat(self, heat, matrix, step, step_name, progress):
+        """Factor ``matrix``, ``M + step L``, for the boundary condition (Neumann, interior-only Dirichlet, or both);
         ``step_name`` ("short step", "long step" or "") names the step in the progress messages."""
         ops, backend = self.ops, self.heat_backend
-        step = multiple * heat.time_step
-        matrix = heat_matrix(ops.mass, step, ops.laplacian)
         dirichlet, interior = None, None
         if heat.boundary in ("robin", "dirichlet"):
             interior = np.flatnonzero(~ops.boundary)
@@ -217,9 +236,13 @@ class SolverFactors:
 
     def _ordering(self, backend):
         """The fill-reducing ordering ``backend`` uses on the domain's matrices (kept in the domain's cache)."""
-        if ("ordering", backend) not in self._cache:
-            self._cache["ordering", backend] = fill_reducing_ordering(self._laplacian, backend)
-        return self._cache["ordering", backend]
+        ordering = self._cache.get(("ordering", backend), self)
+        if ordering is self:
+            ordering = fill_reducing_ordering(self._laplacian, backend)
+        elif isinstance(ordering, StartedOrdering):
+            ordering = ordering.result()
+        self._cache["ordering", backend] = ordering
+        return ordering
 
     def _laplacian_ordering(self, backend):
         """The best ordering at hand for the Laplacian: nested dissection where it was started, else the quick one."""
