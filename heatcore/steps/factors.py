@@ -173,7 +173,7 @@ class SolverFactors:
             self.timings["poisson factorization"] = time.perf_counter() - start
         start = time.perf_counter()
         shares = np.linspace(0.05, 0.7, len(matrices) + 1)
-        steps = ("",) if len(matrices) == 1 else ("short step", "long step")
+        steps = ("", "long step")[: len(matrices)]  # the short step's messages are one step's
         flows = [self._factor_heat(heat, matrix, multiple * heat.time_step, step, progress.part(shares[i], shares[i + 1]))
                  for i, (matrix, multiple, step) in enumerate(zip(matrices, heat.multiples, steps))]
         self._heat_flow, self._long_flow = flows[0], (flows[1] if len(flows) > 1 else None)
@@ -217,7 +217,7 @@ class SolverFactors:
 
     def _factor_heat(self, heat, matrix, step, step_name, progress):
         """Factor ``matrix``, ``M + step L``, for the boundary condition (Neumann, interior-only Dirichlet, or both);
-        ``step_name`` ("short step", "long step" or "") names the step in the progress messages."""
+        ``step_name`` ("long step" or "") names the step in the progress messages."""
         ops, backend = self.ops, self.heat_backend
         dirichlet, interior = None, None
         if heat.boundary in ("robin", "dirichlet"):
