@@ -118,7 +118,7 @@ def write_report(path, rows, timings, n_vertices, note=""):
         "Mean relative error over vertices vs exact MMP geodesics (gdist), averaged over the same",
         "three random source vertices per mesh (seed 0). *default*: `hc.geodesic_distance(V, F, s)`",
         "(intrinsic Delaunay, Robin boundary conditions, m = 1, meshes under 11k vertices midpoint-",
-        "subdivided once); *no refinement*: `refine=0`; *plain cotan*: `refine=0, robust=False`.",
+        "subdivided once and read two heat steps); *no refinement*: `refine=0`; *plain cotan*: `refine=0, robust=False`.",
         "",
         "| mesh | vertices | heatcore default | refine levels | no refinement | plain cotan | potpourri3d robust |",
         "|---|---:|---:|---:|---:|---:|---:|",
