@@ -23,6 +23,7 @@ import warnings
 import numpy as np
 
 from ..errors import HeatcoreWarning, InvalidMeshError
+from .parts import row_reduce
 
 
 def simple_polygons(X, offsets, corners, given, split=False, planes=None):
@@ -221,35 +222,7 @@ def _segments_cross(flat, a, b):
     ux, uy, vx, vy = qx - px, qy - py, sx - rx, sy - ry
     d1, d2 = ux * (ry - py) - uy * (rx - px), ux * (sy - py) - uy * (sx - px)  # orientation(p, q, r), (p, q, s)
     d3, d4 = vx * (py - ry) - vy * (px - rx), vx * (qy - ry) - vy * (qx - rx)  # orientation(r, s, p), (r, s, q)
-    scale = row_max(np.abs(flat.reshape(flat.shape[0], -1)))[:, None] ** 2 * 1e-12 + np.finfo(float).tiny
+    scale = row_reduce(np.maximum, np.abs(flat.reshape(flat.shape[0], -1)))[:, None] ** 2 * 1e-12 + np.finfo(float).tiny
     return (d1 * d2 < 0) & (d3 * d4 < 0) & (np.minimum(np.abs(d1), np.abs(d2)) > scale) & (
         np.minimum(np.abs(d3), np.abs(d4)) > scale
     )
-
-
-def row_max(A):
-    """``A.max(axis=1)`` where axis 1 is short (a few corners or columns): the same numbers, one slice at a time (faster).
-
-    Examples
-    --------
-    >>> row_max(np.array([[1.0, 3.0, 2.0], [5.0, 4.0, 0.0]])).tolist()
-    [3.0, 5.0]
-    """
-    top = A[:, 0].copy()
-    for column in range(1, A.shape[1]):
-        np.maximum(top, A[:, column], out=top)
-    return top
-
-
-def row_min(A):
-    """``A.min(axis=1)``, as :func:`row_max`.
-
-    Examples
-    --------
-    >>> row_min(np.array([[1.0, 3.0, 2.0], [5.0, 4.0, 0.0]])).tolist()
-    [1.0, 0.0]
-    """
-    low = A[:, 0].copy()
-    for column in range(1, A.shape[1]):
-        np.minimum(low, A[:, column], out=low)
-    return low

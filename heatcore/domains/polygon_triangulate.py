@@ -41,8 +41,8 @@ Examples
 import numpy as np
 
 from .ear_clipping import delaunay_triangles
-from .parts import vertex_components
-from .polygon_shape import plane_coordinates, row_max, row_min
+from .parts import row_reduce, vertex_components
+from .polygon_shape import plane_coordinates
 
 #: Relative size (of a polygon's squared extent) below which a corner's turn counts as none (rounding).
 STRAIGHT_TOLERANCE = 1e-9
@@ -235,7 +235,7 @@ def _quad_splits(Q, idx):
     x, y = Q[..., 0], Q[..., 1]  # _cross(previous, Q, next), one coordinate at a time
     px, py = np.roll(x, 1, axis=1), np.roll(y, 1, axis=1)
     turn = (x - px) * (np.roll(y, -1, axis=1) - py) - (y - py) * (np.roll(x, -1, axis=1) - px)
-    spans = row_max(Q) - row_min(Q)  # np.ptp(Q, axis=1), (p, 2)
+    spans = row_reduce(np.maximum, Q) - row_reduce(np.minimum, Q)  # np.ptp(Q, axis=1), (p, 2)
     reflex = turn < -STRAIGHT_TOLERANCE * np.maximum(spans[:, 0], spans[:, 1])[:, None] ** 2
     use_02 = np.where(reflex[:, [1, 3]].any(axis=1), False, np.where(reflex[:, [0, 2]].any(axis=1), True, straight_02))
     a = np.array([[0, 1, 2], [0, 2, 3]])
