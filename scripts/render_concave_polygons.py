@@ -43,7 +43,7 @@ from concave_meshes import dissolved_grid  # noqa: E402  (Blender's Dissolve Edg
 def folded_polygon_mesh(V, P):
     """Virtual refinement on every polygon, as before the concave ones were triangulated."""
     kept = polygon_module.triangulate_where_needed
-    polygon_module.triangulate_where_needed = lambda X, offsets, corners, origin, everywhere=False: (
+    polygon_module.triangulate_where_needed = lambda X, offsets, corners, origin, everywhere=False, planes=None: (
         offsets, corners, origin, 0)
     try:
         return hc.PolygonMesh(V, P, virtual=True)
