@@ -43,7 +43,7 @@ from .settings import SolverSettings
 from .steps.blocks import block_columns, source_sequence
 from .steps.factors import HeatStep, SolverFactors
 from .steps.poisson import MAX_PRECOMPUTED_PINS
-from .steps.source_bounds import source_bounds
+from .steps.source_bounds import STRAIGHT_INDEX_AFTER, source_bounds
 from .steps.time_step import LONG_STEP, SHORT_STEP, underflow_safe_m, vertex_time_steps
 from .steps.unit_field import (
     log_ratio,
@@ -318,7 +318,7 @@ class HeatSolver:
             rows[chunk] = phi.T[:, outputs]
         rows[:, self._unreferenced] = np.inf  # they read index -1 above
         for row, source in zip(rows, sources):
-            bounds = self._block_source_bounds(source, many=len(sources) > 1)
+            bounds = self._block_source_bounds(source)
             if bounds is not None:
                 bounds.apply(row)
         return rows
@@ -352,22 +352,19 @@ class HeatSolver:
             return self.domain.source_pins(kinds.pop("vertices", None), **source_keywords(kinds, stacklevel=4))
         return self.domain.source_pins(source)
 
-    def _block_source_bounds(self, source, many):
-        """:class:`~heatcore.steps.source_bounds.SourceBounds` of one source of a block (None for prepared pins).
-
-        ``many``: one of several sources (the domain indexes its segments at once, see :meth:`_source_bounds`).
-        """
+    def _block_source_bounds(self, source):
+        """:class:`~heatcore.steps.source_bounds.SourceBounds` of one source of a block (None for prepared pins)."""
         if isinstance(source, SourcePins):
             return None
         if isinstance(source, Mapping):
             kinds = dict(source)
-            return self._source_bounds(kinds.pop("vertices", None), kinds, many)
-        return self._source_bounds(source, {}, many)
+            return self._source_bounds(kinds.pop("vertices", None), kinds)
+        return self._source_bounds(source, {})
 
-    def _source_bounds(self, vertices, kinds, many=False):
-        """The bounds near a source; from the second query (or in a block) the domain indexes its segments."""
+    def _source_bounds(self, vertices, kinds):
+        """The bounds near a source; from the :data:`STRAIGHT_INDEX_AFTER`-th source on, the domain indexes its segments."""
         self._bounded += 1
-        if many or self._bounded > 1:
+        if self._bounded >= STRAIGHT_INDEX_AFTER:
             self.domain.index_straight_neighbours()
         return source_bounds(self.domain, self.component, vertices, kinds)
 

@@ -8,7 +8,7 @@ weight group), on meshes built in bpy: icospheres of 162 and 2,562 vertices
 vertices, the size of the issue's 504k mesh), or OBJ files given with
 ``--mesh``. The first click is also timed as the button makes it (the modal
 operator's logic, ``ModalRun``, driven by timer events every
-``display.TIMER_STEP`` as Blender would): until the first answer is on
+``display.timer_step`` as Blender would): until the first answer is on
 screen (a small mesh's preview, drawn at once; else the result) and until
 the result is written. A cached click is a click with another selected vertex after the
 first; the core query is ``solver.distance(src)`` on the cached solver with
@@ -215,8 +215,8 @@ class QuietDisplay:
 def button_click(addon, obj, vertex, write_weights):
     """The button's first click: seconds until a first answer is on screen, and until the result is written.
 
-    The modal operator's logic (``ModalRun``) with a timer event every
-    ``display.TIMER_STEP``; the first answer is the preview where the run
+    The modal operator's logic (``ModalRun``) with timer events as
+    ``display.timer_step`` spaces them; the first answer is the preview where the run
     draws one (:mod:`blender_addon.preview`), else the written result.
     """
     select(obj, vertex)
@@ -227,7 +227,7 @@ def button_click(addon, obj, vertex, write_weights):
     modal.start(obj)
     shown = time.perf_counter() - start
     while True:  # Blender's first timer event comes one step after the click
-        time.sleep(addon.display.TIMER_STEP)
+        time.sleep(addon.display.timer_step(time.perf_counter() - start))
         if modal.handle(bpy.context, "TIMER") != {"PASS_THROUGH"}:
             break
     written = time.perf_counter() - start

@@ -3,7 +3,7 @@
 Drives the modal operator's logic (``ModalRun``, which the operator's ``modal``
 calls on each event) headless through ``bpy``: the worker thread builds the
 solver while the main thread runs a 10 ms ticker, as Blender's event loop
-would, and delivers a timer event every 0.1 s (``blender_addon.display.TIMER_STEP``).
+would, and delivers timer events as the add-on's display spaces them (``blender_addon.display.timer_step``).
 Measured on the main thread:
 
 - ``prepare``: the click itself (options checked, mesh read and hashed, cache looked up);
@@ -67,7 +67,7 @@ def measure(obj, backend):
                 finish = spent
                 break
             handle_max = max(handle_max, spent)
-            next_timer = now + display.TIMER_STEP
+            next_timer = now + display.timer_step(now - t0)
         last = time.perf_counter()
     total = time.perf_counter() - t0
     updates = modal.build.updates

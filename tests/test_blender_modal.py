@@ -292,8 +292,13 @@ def test_headless_operator_stays_synchronous_and_the_display_calls_exist(modules
     area = next(a for a in window.screen.areas if a.type == "VIEW_3D")
     with bpy.context.temp_override(window=window, area=area):
         display = modules["display"].ProgressDisplay(bpy.context, "Geodesic distance")
-        assert display.timer.time_step == pytest.approx(modules["display"].TIMER_STEP)
+        assert display.timer.time_step == pytest.approx(modules["display"].QUICK_STEP)  # quick looks first
         display.progress(0.42, "factoring the heat matrix")
+        assert display.timer.time_step == pytest.approx(modules["display"].QUICK_STEP)  # still within QUICK_SPAN
+        later = display.started + modules["display"].QUICK_SPAN + 0.01
+        monkeypatch.setattr(modules["display"].time, "monotonic", lambda: later)
+        display.progress(0.5, "factoring the heat matrix")  # a long build: the timer slows down
+        assert display.timer.time_step == pytest.approx(modules["display"].TIMER_STEP)
         display.text("Geodesic probe: click on the surface", "Esc: cancel")
         display.ready()
         display.end()

@@ -185,7 +185,7 @@ def plane_coordinates(P):
     for corner in range(2, k):
         total += P[:, corner]
     centered = P - (total / k)[:, None, :]
-    normal = 0.5 * _vector_area_sum(centered)  # vector area
+    normal = 0.5 * vector_area_sum(centered)  # vector area
     spread = (centered**2).sum(axis=(1, 2))
     weak = np.linalg.norm(normal, axis=1) <= 1e-3 * spread  # a bowtie's areas cancel: the least-spread direction
     if weak.any():
@@ -198,9 +198,18 @@ def plane_coordinates(P):
     return np.stack([np.einsum("pkd,pd->pk", centered, u), np.einsum("pkd,pd->pk", centered, v)], axis=2)
 
 
-def _vector_area_sum(centered):
-    """``_cross3(c_i, c_{i+1}).sum(axis=1)`` over the corners of ``(p, k, 3)`` polygons: the same sums in the same
-    order, on component rows (a strided sum over few corners is several times slower)."""
+def vector_area_sum(centered):
+    """``np.cross(c, np.roll(c, -1, axis=1)).sum(axis=1)`` over the corners ``c`` of ``(p, k, 3)`` polygons: the same
+    sums in the same order, on component rows (a strided sum over few corners is several times slower).
+
+    Twice the vector area of polygons centred on their mean corner.
+
+    Examples
+    --------
+    >>> square = np.array([[[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]], float)
+    >>> vector_area_sum(square).tolist()
+    [[0.0, 0.0, 8.0]]
+    """
     X = np.ascontiguousarray(centered.transpose(2, 1, 0))  # (3, k, p)
     Y = np.concatenate([X[:, 1:], X[:, :1]], axis=1)  # each corner's next
     return np.stack([(X[1] * Y[2] - X[2] * Y[1]).sum(axis=0), (X[2] * Y[0] - X[0] * Y[2]).sum(axis=0),

@@ -42,7 +42,7 @@ import numpy as np
 
 from .ear_clipping import delaunay_triangles
 from .parts import row_reduce, vertex_components
-from .polygon_shape import plane_coordinates
+from .polygon_shape import plane_coordinates, vector_area_sum
 
 #: Relative size (of a polygon's squared extent) below which a corner's turn counts as none (rounding).
 STRAIGHT_TOLERANCE = 1e-9
@@ -370,8 +370,9 @@ def straight_chords(X, offsets, corners):
     for k in np.unique(sizes):
         polygons = np.flatnonzero(sizes == k)
         idx = corners[offsets[polygons][:, None] + np.arange(k)]
-        P = X[idx] - X[idx].mean(axis=1, keepdims=True)
-        normal = np.cross(P, np.roll(P, -1, axis=1)).sum(axis=1)
+        P = X[idx]
+        P -= P.mean(axis=1, keepdims=True)
+        normal = vector_area_sum(P)
         normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), np.finfo(float).tiny)
         extent = np.abs(P).max(axis=(1, 2))
         flat = np.abs(np.einsum("pkd,pd->pk", P, normal)).max(axis=1) <= STRAIGHT_TOLERANCE * extent
