@@ -189,3 +189,25 @@ def test_indexed_segments_equal_the_one_pass_ones():
         looked_up = domain.straight_neighbours(vertices)
         assert sorted(set(zip(*(x.tolist() for x in once)))) == sorted(set(zip(*(x.tolist() for x in looked_up))))
         assert once[0].size > 0
+
+
+def test_the_index_waits_where_bounding_a_source_is_slow(monkeypatch):
+    """A small mesh's segments are indexed at the second source; where the first source took long to bound (a
+    large mesh: the index costs seconds there), only at the STRAIGHT_INDEX_AFTER-th, with the same distances."""
+    from heatcore.steps import source_bounds
+
+    V, F = hc.io.load_demo_mesh()
+    sources = np.arange(source_bounds.STRAIGHT_INDEX_AFTER) * 7
+    quick = hc.HeatSolver(hc.TriangleMesh(V, F))
+    indexed = []
+    for source in sources:
+        quick.distance([source])
+        indexed.append(("straight segments", None) in quick.domain.derived)
+    assert indexed == [False] + [True] * (sources.size - 1)
+    monkeypatch.setattr(source_bounds, "QUICK_BOUNDS_SECONDS", 0.0)  # every first source is "slow" to bound
+    slow = hc.HeatSolver(hc.TriangleMesh(V, F))
+    indexed = []
+    for source in sources:
+        assert np.array_equal(slow.distance([source]), quick.distance([source]))
+        indexed.append(("straight segments", None) in slow.domain.derived)
+    assert indexed == [False] * (sources.size - 1) + [True]
