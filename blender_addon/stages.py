@@ -34,7 +34,13 @@ from .adapters import AddonError
 from .cache import IDENTITY, SOLVERS, Placement, geometry_key, placed, same_key
 from .elements import domain_sources, selected_elements
 from .outputs import OUTPUT_NAMES, check_outputs, write_outputs
-from .polygons import key_options, polygon_arrays, polygon_domain, use_polygons
+from .polygons import (
+    coincident_vertices,
+    key_options,
+    polygon_arrays,
+    polygon_domain,
+    use_polygons,
+)
 from .shape import (
     COPY_MARKER,
     evaluated_copy,
@@ -516,7 +522,7 @@ def merge_hint(V, d, weld):
     reached = int(np.isfinite(d).sum())
     if reached >= MERGE_HINT[0] * len(V):
         return None
-    shared = len(V) - len(np.unique(V, axis=0))
+    shared = coincident_vertices(V)
     if shared < MERGE_HINT[1] * len(V):
         return None
     return (f"the distance reaches {reached:,} of {len(V):,} vertices: the mesh is in pieces that touch "
