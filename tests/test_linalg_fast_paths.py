@@ -22,6 +22,7 @@ from test_linalg import heat_matrix
 import heatcore as hc
 from heatcore import linalg
 from heatcore.linalg import libraries, metis, ordering
+from heatcore.linalg.factor import BACKGROUND_MIN_SIZE
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -144,7 +145,8 @@ def test_one_symbolic_analysis_serves_both_matrices_of_a_pattern(fresh_warnings,
 
 def test_a_factorization_started_in_the_background_is_the_same_and_says_when_it_fails():
     require("cvxopt")
-    A = heat_matrix(40, 40)
+    A = heat_matrix(80, 80)
+    assert A.shape[0] >= BACKGROUND_MIN_SIZE  # large enough to be started in the background
     ordering = linalg.fill_reducing_ordering(A, "supernodal")
     started = linalg.start_factor(A, "supernodal", ordering=ordering)
     b = np.random.default_rng(1).standard_normal(A.shape[0])

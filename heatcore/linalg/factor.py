@@ -85,14 +85,20 @@ def factor(A, backend="auto", prefer="factor", ordering=None):
     return getattr(importlib.import_module(f".{module}", __package__), factor_class)(A, ordering)
 
 
+#: :func:`start_factor` runs factorizations of this many unknowns and more beside the caller; smaller ones
+#: (a 507-vertex mesh's: 0.2 ms) are made when their result is asked for, as a thread's hand-over costs about that.
+BACKGROUND_MIN_SIZE = 5_000
+
+
 def start_factor(A, backend="auto", prefer="factor", ordering=None):
     """Start factoring a matrix where it can run beside the caller; ``result()`` gives the :class:`Factor`.
 
     The ``supernodal`` backend with an ``ordering`` (and CHOLMOD within reach:
     :mod:`~heatcore.linalg.cholmod_direct`) makes its symbolic analysis here
     and runs the numeric factorization in a background thread, without the
-    GIL, while the caller factors another matrix. Every other case factors
-    when ``result()`` is first called, as :func:`factor` would.
+    GIL, while the caller factors another matrix (from
+    :data:`BACKGROUND_MIN_SIZE` unknowns). Every other case factors when
+    ``result()`` is first called, as :func:`factor` would.
 
     Parameters
     ----------
@@ -117,7 +123,8 @@ def start_factor(A, backend="auto", prefer="factor", ordering=None):
     """
     if backend == "auto":
         backend = choose_backend(A.shape[0], prefer)
-    if backend == "supernodal" and ordering is not None and optional("cvxopt") is not None:
+    beside = A.shape[0] >= BACKGROUND_MIN_SIZE  # a small one is over before a thread would take it up
+    if beside and backend == "supernodal" and ordering is not None and optional("cvxopt") is not None:
         from . import cholmod_direct, supernodal  # imported on first use, with cvxopt
 
         if cholmod_direct.available():

@@ -206,16 +206,20 @@ def _analysis(lower, ordering, pattern):
     return analysis
 
 
+#: Threads that run background orderings and factorizations: CHOLMOD factors on one core (cvxopt's BLAS is
+#: serial), so the Laplacian's and the Dirichlet heat matrix's factorizations run beside the caller's at once.
+FACTOR_THREADS = 2
+
 _threads_lock = threading.Lock()
 _threads = {}  # the background thread's executor, made on first use; forgotten in a forked child (no thread there)
 os.register_at_fork(after_in_child=_threads.clear)
 
 
 def _factor_thread():
-    """The thread that runs background orderings and factorizations (:class:`SupernodalFactor`'s ``background``)."""
+    """The threads that run background orderings and factorizations (:class:`SupernodalFactor`'s ``background``)."""
     with _threads_lock:
         if "factor" not in _threads:
-            _threads["factor"] = ThreadPoolExecutor(max_workers=1, thread_name_prefix="heatcore-factor")
+            _threads["factor"] = ThreadPoolExecutor(max_workers=FACTOR_THREADS, thread_name_prefix="heatcore-factor")
         return _threads["factor"]
 
 

@@ -226,11 +226,13 @@ class SolverFactors:
                 which = f"{step_name}; " if step_name else ""
                 progress(0.0, f"factoring the heat matrix ({which}interior vertices, for the Dirichlet condition)")
                 ordering = restrict_ordering(self._ordering(backend), interior)
-                dirichlet = factor(matrix[interior][:, interior], backend, ordering=ordering)
+                # Beside the Neumann factorization below where the backend lets it (CHOLMOD runs on one core).
+                dirichlet = start_factor(matrix[interior][:, interior], backend, ordering=ordering)
         # Neumann: the condition itself, half of Robin, or the fallback where Dirichlet sees no heat.
         progress(0.0 if dirichlet is None else 0.5, f"factoring the heat matrix ({step_name})" if step_name
                  else "factoring the heat matrix")
         neumann = factor(matrix, backend, ordering=self._ordering(backend))
+        dirichlet = None if dirichlet is None else dirichlet.result()
         return HeatFlow(neumann, dirichlet, interior, heat.boundary, heat.component, heat.n_components,
                         BoundarySourceHeat(ops, self._laplacian, step, neumann))
 
