@@ -35,6 +35,7 @@ import scipy.sparse as sp
 from ..errors import SolverError
 from ..linalg import (
     Ordering,
+    StartedFactor,
     StartedOrdering,
     factor,
     fill_reducing_ordering,
@@ -174,8 +175,11 @@ class SolverFactors:
         start = time.perf_counter()
         shares = np.linspace(0.05, 0.7, len(matrices) + 1)
         steps = ("", "long step")[: len(matrices)]  # the short step's messages are one step's
-        flows = [self._factor_heat(heat, matrix, multiple * heat.time_step, step, progress.part(shares[i], shares[i + 1]))
+        # Every factorization but the last step's Neumann one is started beside the caller (CHOLMOD runs on one core).
+        flows = [self._start_heat(heat, matrix, multiple * heat.time_step, step, progress.part(shares[i], shares[i + 1]),
+                                  beside=i < len(matrices) - 1)
                  for i, (matrix, multiple, step) in enumerate(zip(matrices, heat.multiples, steps))]
+        flows = [flow() for flow in flows]
         self._heat_flow, self._long_flow = flows[0], (flows[1] if len(flows) > 1 else None)
         self.timings["heat factorization"] += time.perf_counter() - start
         start = time.perf_counter()
@@ -215,9 +219,11 @@ class SolverFactors:
             self.start()
             self.build(heat, Progress(progress))
 
-    def _factor_heat(self, heat, matrix, step, step_name, progress):
-        """Factor ``matrix``, ``M + step L``, for the boundary condition (Neumann, interior-only Dirichlet, or both);
-        ``step_name`` ("long step" or "") names the step in the progress messages."""
+    def _start_heat(self, heat, matrix, step, step_name, progress, beside=False):
+        """Start factoring ``matrix``, ``M + step L``, for the boundary condition (Neumann, interior-only Dirichlet, or
+        both): the Dirichlet factorization beside the caller, the Neumann one too where ``beside`` (else now).
+        ``step_name`` ("long step" or "") names the step in the progress messages. Returns a callable that waits
+        for them and gives the step's :class:`~heatcore.steps.heat_flow.HeatFlow`."""
         ops, backend = self.ops, self.heat_backend
         dirichlet, interior = None, None
         if heat.boundary in ("robin", "dirichlet"):
@@ -226,15 +232,19 @@ class SolverFactors:
                 which = f"{step_name}; " if step_name else ""
                 progress(0.0, f"factoring the heat matrix ({which}interior vertices, for the Dirichlet condition)")
                 ordering = restrict_ordering(self._ordering(backend), interior)
-                # Beside the Neumann factorization below where the backend lets it (CHOLMOD runs on one core).
                 dirichlet = start_factor(matrix[interior][:, interior], backend, ordering=ordering)
         # Neumann: the condition itself, half of Robin, or the fallback where Dirichlet sees no heat.
         progress(0.0 if dirichlet is None else 0.5, f"factoring the heat matrix ({step_name})" if step_name
                  else "factoring the heat matrix")
-        neumann = factor(matrix, backend, ordering=self._ordering(backend))
-        dirichlet = None if dirichlet is None else dirichlet.result()
-        return HeatFlow(neumann, dirichlet, interior, heat.boundary, heat.component, heat.n_components,
-                        BoundarySourceHeat(ops, self._laplacian, step, neumann))
+        neumann = start_factor(matrix, backend, ordering=self._ordering(backend)) if beside else StartedFactor(
+            factor(matrix, backend, ordering=self._ordering(backend)))
+
+        def flow():
+            made = neumann.result()
+            return HeatFlow(made, None if dirichlet is None else dirichlet.result(), interior, heat.boundary,
+                            heat.component, heat.n_components, BoundarySourceHeat(ops, self._laplacian, step, made))
+
+        return flow
 
     def _ordering(self, backend):
         """The fill-reducing ordering ``backend`` uses on the domain's matrices (kept in the domain's cache)."""
