@@ -43,7 +43,7 @@ from .settings import SolverSettings
 from .steps.blocks import block_columns, source_sequence
 from .steps.factors import HeatStep, SolverFactors
 from .steps.poisson import MAX_PRECOMPUTED_PINS
-from .steps.source_bounds import index_pays, source_bounds
+from .steps.source_bounds import source_bounds
 from .steps.time_step import LONG_STEP, SHORT_STEP, underflow_safe_m, vertex_time_steps
 from .steps.unit_field import (
     log_ratio,
@@ -131,7 +131,6 @@ class HeatSolver:
         self.m = settings.m
         self.domain = domain
         self._bounded = 0  # queries bounded near their sources (steps/source_bounds.py)
-        self._first_bounds_seconds = np.inf  # how long the first took
         self.path_fields = None  # geodesic paths' distance fields, made by the first path (paths/fields.py)
         progress = Progress(progress)
         progress(0.0, "connected components")
@@ -363,15 +362,12 @@ class HeatSolver:
         return self._source_bounds(source, {})
 
     def _source_bounds(self, vertices, kinds):
-        """The bounds near a source; the domain indexes its segments once that pays (:func:`~heatcore.steps.source_bounds.index_pays`)."""
+        """The bounds near a source; from the second one on, the domain looks up the elements at a vertex (its
+        index costs about one pass over the elements: a one-off query pays none)."""
         self._bounded += 1
-        if index_pays(self._bounded, self._first_bounds_seconds):
+        if self._bounded > 1:
             self.domain.index_straight_neighbours()
-        start = time.perf_counter()
-        bounds = source_bounds(self.domain, self.component, vertices, kinds)
-        if self._bounded == 1:
-            self._first_bounds_seconds = time.perf_counter() - start
-        return bounds
+        return source_bounds(self.domain, self.component, vertices, kinds)
 
     def _distances_from_pins(self, block):
         """Distances from each of the prepared pins in ``block``, as columns ``(n, k)`` at the operator vertices."""

@@ -38,7 +38,7 @@ KINDS = {
     "eikonal corners": "CornerTable of the vectorized accuracy='high' pass (eikonal.py); None",
     "fast marching": "fast_marching.Readers of the compiled accuracy='high' pass (high_accuracy.py); None",
     "path mesh": "PathMesh, the input faces as geodesic paths see them (paths/surface.py); None",
-    "straight segments": "every vertex's straight segments (Domain.index_straight_neighbours); None",
+    "vertex elements": "every input vertex's elements (Domain.index_straight_neighbours); None",
     "welded twins": "whether two input vertices share an operator vertex (steps/source_bounds.py); None",
     "displayed surface": "Blender: the probe's DisplayedSurface with its ray-casting tree; None",
     "probe sources": "Blender: the sources of the probe tool's last click on this mesh; None",

@@ -544,12 +544,20 @@ class PolygonMesh(MeshDomain):
         time_h = h * np.where(refined, np.sqrt(REFINED_TIME_FACTOR), 1.0)
         return Operators(L, mass, G, fan_ops.volumes, 2, boundary, elements, time_h[part])
 
-    def _element_sides(self, mark):
+    def _element_corners(self):
+        offsets, corners = self._spanned
+        return np.repeat(np.arange(offsets.size - 1), np.diff(offsets)), corners
+
+    def _element_sides(self, mark, elements=None):
         """The sides of the polygons at ``mark``ed corners, and the diagonals of the flat ones, which lie in them."""
         offsets, corners = self._spanned
-        sizes = np.diff(offsets)
-        touched = np.bincount(np.repeat(np.arange(sizes.size), sizes), weights=mark[corners], minlength=sizes.size) > 0
-        return straight_chords(self.vertices, np.r_[0, np.cumsum(sizes[touched])], corners[np.repeat(touched, sizes)])
+        if elements is None:
+            sizes = np.diff(offsets)
+            elements = np.flatnonzero(np.bincount(np.repeat(np.arange(sizes.size), sizes), weights=mark[corners],
+                                                  minlength=sizes.size))
+        sizes = offsets[elements + 1] - offsets[elements]
+        first = np.repeat(offsets[elements] - np.r_[0, np.cumsum(sizes)[:-1]], sizes) + np.arange(sizes.sum())
+        return straight_chords(self.vertices, np.r_[0, np.cumsum(sizes)], corners[first])
 
     def _pin_edges(self, edges, pins):
         """Polygon edges (vertex pairs): their end points and the refined vertices on them, at distance 0."""

@@ -203,8 +203,14 @@ class TetMesh(MeshDomain):
         self.operators = tet_operators(self._positions, self.vertex_map[oriented[kept]], boundary, faces)
         progress(1.0, "tet mesh ready")
 
-    def _element_sides(self, mark):
-        tets = self.tets[mark[self.tets].any(axis=1) & (self.tet_map >= 0)]
+    def _element_corners(self):
+        kept = np.flatnonzero(self.tet_map >= 0)
+        return np.repeat(kept, 4), self.tets[kept].ravel()
+
+    def _element_sides(self, mark, elements=None):
+        if elements is None:
+            elements = mark[self.tets].any(axis=1) & (self.tet_map >= 0)
+        tets = self.tets[elements]
         a, b = np.triu_indices(4, 1)
         return tets[:, a].ravel(), tets[:, b].ravel()
 

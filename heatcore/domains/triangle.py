@@ -334,9 +334,15 @@ class TriangleMesh(MeshDomain):
             return None
         return True if refined.all() else refined[self.operators.parts[1]]
 
-    def _element_sides(self, mark):
-        hit = mark[self.faces]
-        faces = self.faces[(hit[:, 0] | hit[:, 1] | hit[:, 2]) & (self.face_map >= 0)]  # 3x faster than any(axis=1)
+    def _element_corners(self):
+        kept = np.flatnonzero(self.face_map >= 0)
+        return np.repeat(kept, 3), self.faces[kept].ravel()
+
+    def _element_sides(self, mark, elements=None):
+        if elements is None:
+            hit = mark[self.faces]
+            elements = (hit[:, 0] | hit[:, 1] | hit[:, 2]) & (self.face_map >= 0)  # 3x faster than any(axis=1)
+        faces = self.faces[elements]
         return faces.ravel(), np.roll(faces, -1, axis=1).ravel()
 
     def _point_elements(self):

@@ -49,28 +49,6 @@ TREE_FROM_POINTS = 16
 #: Rings of straight neighbours around the sources where the lower bound is applied.
 RINGS = 2
 
-#: A solver's sources after which its domain indexes every vertex's straight segments
-#: (``Domain.index_straight_neighbours``) whatever it costs; before, each source reads the elements at
-#: it. On a 504k-vertex polygon mesh the index costs 1.2 s and saves 0.06 s a query (0.28 s -> 0.22 s):
-#: it pays for itself after about 20 queries (made at the second, it made that click 1.5 s).
-STRAIGHT_INDEX_AFTER = 20
-#: Where a solver's first source took less than this many seconds to bound, the index is made at
-#: its second source: a small mesh's index costs about one query (nefertiti, 50k vertices: 16 ms,
-#: against 1-2 ms to bound a source unindexed; 504k polygons: 50 ms).
-QUICK_BOUNDS_SECONDS = 0.005
-
-
-def index_pays(sources_bounded, first_seconds):
-    """Whether a solver that has bounded ``sources_bounded`` sources, the first in ``first_seconds``, indexes its
-    domain's straight segments now (:data:`STRAIGHT_INDEX_AFTER`, :data:`QUICK_BOUNDS_SECONDS`).
-
-    Examples
-    --------
-    >>> index_pays(2, 0.001), index_pays(2, 0.05), index_pays(STRAIGHT_INDEX_AFTER, 0.05)
-    (True, False, True)
-    """
-    return sources_bounded >= STRAIGHT_INDEX_AFTER or (sources_bounded >= 2 and first_seconds < QUICK_BOUNDS_SECONDS)
-
 
 @dataclass(frozen=True)
 class SourceBounds:
