@@ -83,11 +83,11 @@ def march_from_pins(domain, pins, tol=TOL):
     """
     from . import fast_marching
 
-    d = np.full(domain.operators.n_vertices, np.inf)
+    d = np.full(domain.n_vertices, np.inf)
     d[pins.vertices] = pins.values
     readers = domain.derived.get_or_build(  # kept in the domain's cache
         ("fast marching", None),
-        lambda: fast_marching.Readers(domain.operators.n_vertices, *corner_layout(*domain.eikonal_triangles())),
+        lambda: fast_marching.Readers(domain.n_vertices, *corner_layout(*domain.eikonal_triangles())),
     )
     fast_marching.march(readers, d, pins.vertices, tol)
-    return np.ldexp(d, domain.operators.unit_exponent)
+    return np.ldexp(d, domain.vertex_unit_exponent)
