@@ -130,6 +130,35 @@ class Readers:
     def __init__(self, n, C, A, B, layout):
         self.start, self.corner_vertex, self.other, self.layout = _by_reader(n, C, A, B, layout)
 
+    @classmethod
+    def of_triangles(cls, n, faces, lengths):
+        """``Readers(n, *corner_layout(faces, lengths))``, the same arrays, in one compiled pass (needs numba).
+
+        :func:`~heatcore.eikonal.corner_layout`'s order (each triangle turned
+        to start at its smallest vertex, kept once, in lexicographic order)
+        comes from a counting sort by that vertex, without its 1M-vertex
+        temporaries (1.5-2 s there, 0.3 s here).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from heatcore.eikonal import corner_layout
+        >>> F, L = [np.array([[2, 0, 1], [0, 1, 3]])], [np.array([[1.0, 1.2, 1.1], [1.0, 1.0, 1.4]])]
+        >>> if available():
+        ...     readers, layout = Readers.of_triangles(4, F, L), Readers(4, *corner_layout(F, L))
+        ...     print(all(np.array_equal(getattr(readers, k), getattr(layout, k), equal_nan=True)
+        ...               for k in ("start", "corner_vertex", "other", "layout")))
+        ... else:
+        ...     print(True)
+        True
+        """
+        faces = np.concatenate([np.asarray(f, dtype=np.int64) for f in faces])
+        lengths = np.concatenate([np.asarray(l, dtype=float) for l in lengths])
+        readers = cls.__new__(cls)
+        kept = _kept_in_order(faces, int(faces.max(initial=0)) + 1)
+        readers.start, readers.corner_vertex, readers.other, readers.layout = _turned_by_reader(n, faces, lengths, kept)
+        return readers
+
 
 @_compiled
 def _march_loop(start, corner_vertex, other, layout, d, is_pinned, pinned, tol):  # pragma: no cover - compiled
@@ -179,6 +208,85 @@ def _by_reader(n, C, A, B, layout):  # pragma: no cover - compiled
             place[reader] += 1
             corner_vertex[k], other[k] = C[j], second
             rows[k, 0], rows[k, 1], rows[k, 2], rows[k, 3], rows[k, 4] = c, xr, y, first_side, second_side
+    return start, corner_vertex, other, rows
+
+
+@_compiled
+def _first_corner(f, t):  # pragma: no cover - compiled
+    """The corner of triangle ``t`` at its smallest vertex (the first of them, as ``np.argmin``)."""
+    k = 0
+    if f[t, 1] < f[t, 0]:
+        k = 1
+    if f[t, 2] < f[t, k]:
+        k = 2
+    return k
+
+
+@_compiled
+def _kept_in_order(f, n):  # pragma: no cover - compiled
+    """The triangles :func:`~heatcore.eikonal.corner_layout` keeps, in its order: turned to start at their smallest
+    vertex, sorted (a counting sort by it, then insertion by the other two), the first of equal ones."""
+    start = np.zeros(n + 1, dtype=np.int64)
+    for t in range(f.shape[0]):
+        start[f[t, _first_corner(f, t)] + 1] += 1
+    start = np.cumsum(start)
+    place = start[:-1].copy()
+    order = np.empty(f.shape[0], dtype=np.int64)
+    second = np.empty(f.shape[0], dtype=np.int64)  # the turned triangle's other two vertices
+    third = np.empty(f.shape[0], dtype=np.int64)
+    for t in range(f.shape[0]):
+        k = _first_corner(f, t)
+        v = f[t, k]
+        j = place[v]
+        place[v] += 1
+        b, c = f[t, (k + 1) % 3], f[t, (k + 2) % 3]
+        while j > start[v] and (second[j - 1] > b or (second[j - 1] == b and third[j - 1] > c)):  # stable
+            order[j], second[j], third[j] = order[j - 1], second[j - 1], third[j - 1]
+            j -= 1
+        order[j], second[j], third[j] = t, b, c
+    kept = np.ones(f.shape[0], dtype=np.bool_)
+    for v in range(n):
+        for j in range(start[v] + 1, start[v + 1]):
+            kept[j] = second[j] != second[j - 1] or third[j] != third[j - 1]
+    return order[kept]
+
+
+@_compiled
+def _turned_by_reader(n, f, lengths, kept):  # pragma: no cover - compiled
+    """:func:`_by_reader` of :func:`~heatcore.eikonal.corner_layout`'s corners of the ``kept`` triangles, each
+    row computed as there (the same floating-point operations, in the same order)."""
+    start = np.zeros(n + 1, dtype=np.int64)
+    for t in kept:
+        for k in range(3):
+            start[f[t, k] + 1] += 2  # each vertex reads the two corners beside it in each of its triangles
+    start = np.cumsum(start)
+    place = start[:-1].copy()
+    size = 6 * kept.size
+    corner_vertex = np.empty(size, dtype=np.int32)
+    other = np.empty(size, dtype=np.int32)
+    rows = np.empty((size, 5))
+    for t in kept:
+        first = _first_corner(f, t)
+        for k in range(3):
+            corner, nxt, prv = (first + k) % 3, (first + k + 1) % 3, (first + k + 2) % 3
+            C, A, B = f[t, corner], f[t, nxt], f[t, prv]
+            c, cb, ca = lengths[t, corner], lengths[t, nxt], lengths[t, prv]
+            x = (ca * ca - cb * cb + c * c) / (2.0 * c)
+            y = ca * ca - x * x
+            if y < 0.0:
+                y = 0.0
+            y = np.sqrt(y)
+            if A == C or B == C or A == B or not y > 0.0 or not c > 0.0 or not np.isfinite(x):
+                c = np.nan
+            if A == C:
+                ca = np.inf
+            if B == C:
+                cb = np.inf
+            for reader, second, xr, first_side, second_side in ((A, B, x, ca, cb), (B, A, c - x, cb, ca)):
+                j = place[reader]
+                place[reader] += 1
+                corner_vertex[j], other[j] = C, second
+                rows[j, 0], rows[j, 1], rows[j, 2], rows[j, 3], rows[j, 4] = c, xr, y, first_side, second_side
     return start, corner_vertex, other, rows
 
 

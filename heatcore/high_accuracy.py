@@ -17,7 +17,7 @@ Examples
 
 import numpy as np
 
-from .eikonal import TOL, corner_layout, refine_distance
+from .eikonal import TOL, refine_distance
 
 
 def high_accuracy_distance(domain, pins, heat_distance, tol=TOL):
@@ -87,7 +87,7 @@ def march_from_pins(domain, pins, tol=TOL):
     d[pins.vertices] = pins.values
     readers = domain.derived.get_or_build(  # kept in the domain's cache
         ("fast marching", None),
-        lambda: fast_marching.Readers(domain.n_vertices, *corner_layout(*domain.eikonal_triangles())),
+        lambda: fast_marching.Readers.of_triangles(domain.n_vertices, *domain.eikonal_triangles()),
     )
     fast_marching.march(readers, d, pins.vertices, tol)
     return np.ldexp(d, domain.vertex_unit_exponent)

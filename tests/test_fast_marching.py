@@ -77,3 +77,34 @@ def test_a_high_solver_factors_on_first_need():
     assert solver.heat_flow is not None and solver.poisson is not None  # built now, once
     assert {"heat factorization", "poisson factorization"} <= set(solver.timings)
     np.testing.assert_array_equal(solver.distance([3]), d)
+
+
+def same_readers(a, b):
+    """Whether two :class:`fast_marching.Readers` hold the same arrays, bit for bit (nan where nan)."""
+    return all(getattr(a, k).dtype == getattr(b, k).dtype and np.array_equal(getattr(a, k), getattr(b, k), equal_nan=True)
+               for k in ("start", "corner_vertex", "other", "layout"))
+
+
+@pytest.mark.parametrize("name", ["spot", "nefertiti"])
+def test_the_compiled_corner_table_is_corner_layouts(name):
+    """Issue 34: Readers.of_triangles (one compiled pass, 0.5 s at 1M vertices against 2.3 s) equals the numpy build."""
+    dom = hc.TriangleMesh(*load_shared_mesh(name))
+    faces, lengths = dom.eikonal_triangles()
+    assert len(faces[1]) > 0  # flips replaced some of the mesh's faces: the two sets overlap in the rest
+    compiled = fast_marching.Readers.of_triangles(dom.n_vertices, faces, lengths)
+    assert same_readers(compiled, fast_marching.Readers(dom.n_vertices, *eikonal.corner_layout(faces, lengths)))
+    assert compiled.layout.shape[0] == 6 * (len(faces[0]) + len(faces[1])) - 6 * np.count_nonzero(
+        np.isin(np.sort(faces[1], axis=1).view("i8,i8,i8"), np.sort(faces[0], axis=1).view("i8,i8,i8")))
+
+
+def test_the_compiled_corner_table_keeps_corner_layouts_odd_triangles():
+    """Duplicates (turned or not), repeated vertices, a flat triangle, and vertex numbers past 2**21 (its lexsort)."""
+    big = 2**21 + 5
+    F = np.array([[0, 1, 2], [1, 2, 0], [2, 1, 3], [3, 3, 4], [4, 5, 6], [big, 1, 0], [1, 0, big], [0, big, 1]])
+    L = np.array([[1.0, 1.0, 1.0], [1.0, 1.0, 1.0], [1.0, 1.2, 1.3], [1.0, 1.0, 0.0], [1.0, 2.0, 1.0],
+                  [2.0, 1.5, 1.0], [1.5, 1.0, 2.0], [1.0, 2.0, 1.5]])
+    for faces, lengths in (([F], [L]), ([F[:5], F[5:]], [L[:5], L[5:]]), ([F[:0]], [L[:0]])):
+        expected = fast_marching.Readers(big + 1, *eikonal.corner_layout(faces, lengths))
+        assert same_readers(fast_marching.Readers.of_triangles(big + 1, faces, lengths), expected)
+    # kept once each: (0 1 2), (1 3 2), (3 3 4), (4 5 6) and (0 big 1) turned: 5 triangles, 6 rows each
+    assert fast_marching.Readers.of_triangles(big + 1, [F], [L]).layout.shape == (30, 5)
