@@ -73,10 +73,13 @@ class HeatSolver:
         Boundary condition of the heat step on domains with boundary;
         "robin" averages the Neumann and Dirichlet solutions, as the paper
         recommends. Domains without boundary always use Neumann.
-    accuracy : {"smooth", "high"}, default "smooth"
+    accuracy : {"smooth", "high", "auto"}, default "auto"
         "smooth" is the heat method as the paper describes it (``m`` controls
         smoothing). "high": an eikonal pass (:mod:`heatcore.high_accuracy`),
-        0.1-0.3% error; triangle meshes only.
+        0.1-0.3% error; triangle meshes only. "auto": "high" for one query
+        (the settings' ``intent``) on a large triangle mesh where numba is
+        installed, else "smooth" (:meth:`~heatcore.settings.SolverSettings.for_domain`);
+        a solver kept for reuse (the default intent) is "smooth".
     backend : {"auto", "supernodal", "qdldl", "cholmod", "superlu", "gpu"}
         Sparse factorization backend (see :mod:`heatcore.linalg`).
     progress : callable, optional
@@ -123,7 +126,7 @@ class HeatSolver:
     """
 
     def __init__(self, domain, settings=None, *, progress=None, **options):
-        settings = SolverSettings.of(settings, **options)
+        settings = SolverSettings.of(settings, **options).for_domain(domain)  # "auto" resolved
         if settings.accuracy == "high" and not domain.supports_high_accuracy:
             raise UnsupportedDomainError(f"accuracy='high' is available on triangle meshes, not on {type(domain).__name__}")
         self.settings = settings

@@ -127,6 +127,7 @@ class VectorHeatSolver:
             raise UnsupportedDomainError(
                 f"the vector heat method runs on triangle meshes (TriangleMesh), not on a {domain.domain_name}"
             )
+        settings = settings.for_domain(domain)  # "auto" resolved
         self.domain = domain
         self.settings = settings
         self.accuracy = settings.accuracy
