@@ -37,7 +37,7 @@ import numpy as np
 from .domains.parts import edge_graph, first_of_each, hop_diameters, vertex_components
 from .domains.sources import SourcePins, source_keywords
 from .errors import InvalidSourceError, UnsupportedDomainError
-from .high_accuracy import high_accuracy_distance, high_accuracy_needs_heat
+from .high_accuracy import high_accuracy_distance, high_accuracy_needs_heat, resolve_accuracy
 from .progress import Progress
 from .settings import SolverSettings
 from .steps.blocks import block_columns, source_sequence
@@ -78,7 +78,7 @@ class HeatSolver:
         smoothing). "high": an eikonal pass (:mod:`heatcore.high_accuracy`),
         0.1-0.3% error; triangle meshes only. "auto": "high" for one query
         (the settings' ``intent``) on a large triangle mesh where numba is
-        installed, else "smooth" (:meth:`~heatcore.settings.SolverSettings.for_domain`);
+        installed, else "smooth" (:func:`~heatcore.high_accuracy.resolve_accuracy`);
         a solver kept for reuse (the default intent) is "smooth".
     backend : {"auto", "supernodal", "qdldl", "cholmod", "superlu", "gpu"}
         Sparse factorization backend (see :mod:`heatcore.linalg`).
@@ -126,7 +126,7 @@ class HeatSolver:
     """
 
     def __init__(self, domain, settings=None, *, progress=None, **options):
-        settings = SolverSettings.of(settings, **options).for_domain(domain)  # "auto" resolved
+        settings = resolve_accuracy(SolverSettings.of(settings, **options), domain)
         if settings.accuracy == "high" and not domain.supports_high_accuracy:
             raise UnsupportedDomainError(f"accuracy='high' is available on triangle meshes, not on {type(domain).__name__}")
         self.settings = settings

@@ -39,7 +39,7 @@ heatcore.errors.InvalidOptionError: the MeshLab front end does not offer the opt
 from dataclasses import dataclass
 
 from .errors import InvalidOptionError
-from .options import AUTO_HIGH_VERTICES, OPTIONS, names
+from .options import OPTIONS, names
 
 _SOLVER, _MESH, _OUTPUT = names("solver"), names("mesh"), names("output")
 
@@ -252,28 +252,6 @@ class SolverSettings(OptionGroup):
     def _extra(self):
         return {"intent": self.intent}
 
-    def for_domain(self, domain):
-        """These settings with ``accuracy="auto"`` resolved for ``domain``: "high" for one query (``intent``) on a
-        domain that takes it (triangle meshes) of at least ``AUTO_HIGH_VERTICES`` operator vertices, where the
-        compiled march is installed (:func:`heatcore.fast_marching.available`), else "smooth".
-
-        Examples
-        --------
-        >>> import numpy as np
-        >>> from heatcore.domains import TriangleMesh
-        >>> small = TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0)
-        >>> SolverSettings(intent="one query").accuracy, SolverSettings(intent="one query").for_domain(small).accuracy
-        ('auto', 'smooth')
-        >>> SolverSettings(accuracy="high").for_domain(small).accuracy
-        'high'
-        """
-        if self.accuracy != "auto":
-            return self
-        from . import fast_marching  # numba, imported on first use
-
-        high = (self.intent == "one query" and domain.supports_high_accuracy
-                and domain.n_vertices >= AUTO_HIGH_VERTICES and fast_marching.available())
-        return self.replace(accuracy="high" if high else "smooth")
 
 @dataclass(frozen=True)
 class Settings:

@@ -16,6 +16,7 @@ from heatcore.domains.cotan import intrinsic_operators
 from heatcore.domains.refine import unique_edges
 from heatcore.domains.triangle import THIN_TRIANGLE_SLACK
 from heatcore.options import AUTO_HIGH_VERTICES
+from heatcore.high_accuracy import resolve_accuracy
 from heatcore.settings import Settings, SolverSettings
 
 
@@ -99,12 +100,12 @@ def test_auto_is_the_heat_method_for_every_solver_kept_for_reuse(large):
     assert hc.HeatSolver(mesh).settings.accuracy == "smooth" and hc.HeatSolver(mesh).accuracy == "smooth"
     assert hc.HeatSolver(mesh, accuracy="auto").accuracy == "smooth"
     for intent in ("reuse", "interactive"):
-        assert SolverSettings(intent=intent, accuracy="auto").for_domain(mesh).accuracy == "smooth"
+        assert resolve_accuracy(SolverSettings(intent=intent, accuracy="auto"), mesh).accuracy == "smooth"
     assert Settings.of("blender").solver.accuracy == "smooth"  # Blender's own default, unchanged
-    one = SolverSettings(intent="one query").for_domain(mesh).accuracy
+    one = resolve_accuracy(SolverSettings(intent="one query"), mesh).accuracy
     assert one == ("high" if fast_marching.available() else "smooth")
     tets = hc.TetMesh(np.r_[np.eye(3), [[0.0, 0.0, 0.0]]], [[0, 1, 2, 3]])  # no march on tets: smooth
-    assert SolverSettings(intent="one query").for_domain(tets).accuracy == "smooth"
+    assert resolve_accuracy(SolverSettings(intent="one query"), tets).accuracy == "smooth"
 
 
 def test_without_numba_auto_is_the_heat_method_and_high_still_works(large, monkeypatch):
