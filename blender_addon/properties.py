@@ -116,13 +116,16 @@ def option_property(name, front_end="blender"):
 
 def usable_choice(name, choice):
     """Whether the menu of option ``name`` offers ``choice`` here: the GPU backend only where Blender's Python has
-    its CUDA libraries and a GPU (a Blender user cannot install them from the menu's error).
+    its CUDA libraries and a GPU (a Blender user cannot install them from the menu's error); no "auto" accuracy
+    (it is "high" for one query with numba only: in Blender, interactive and without numba, always "smooth").
 
     Examples
     --------
-    >>> usable_choice("backend", "auto"), usable_choice("colormap", "magma")  # doctest: +SKIP
-    (True, True)
+    >>> usable_choice("backend", "auto"), usable_choice("colormap", "magma"), usable_choice("accuracy", "auto")  # doctest: +SKIP
+    (True, True, False)
     """
+    if (name, choice) == ("accuracy", "auto"):
+        return False
     if (name, choice) != ("backend", "gpu"):
         return True
     return choice in linalg.available_backends()

@@ -177,7 +177,7 @@ class CornerTable:
         """The corner table of a domain's :meth:`~heatcore.domains.base.Domain.eikonal_triangles` (built once,
         kept in the domain's cache)."""
         return domain.derived.get_or_build(
-            ("eikonal corners", None), lambda: cls(domain.operators.n_vertices, *domain.eikonal_triangles())
+            ("eikonal corners", None), lambda: cls(domain.n_vertices, *domain.eikonal_triangles())
         )
 
 

@@ -37,7 +37,7 @@ import numpy as np
 from .domains.parts import edge_graph, first_of_each, hop_diameters, vertex_components
 from .domains.sources import SourcePins, source_keywords
 from .errors import InvalidSourceError, UnsupportedDomainError
-from .high_accuracy import high_accuracy_distance, high_accuracy_needs_heat
+from .high_accuracy import high_accuracy_distance, high_accuracy_needs_heat, resolve_accuracy
 from .progress import Progress
 from .settings import SolverSettings
 from .steps.blocks import block_columns, source_sequence
@@ -73,10 +73,13 @@ class HeatSolver:
         Boundary condition of the heat step on domains with boundary;
         "robin" averages the Neumann and Dirichlet solutions, as the paper
         recommends. Domains without boundary always use Neumann.
-    accuracy : {"smooth", "high"}, default "smooth"
+    accuracy : {"smooth", "high", "auto"}, default "auto"
         "smooth" is the heat method as the paper describes it (``m`` controls
         smoothing). "high": an eikonal pass (:mod:`heatcore.high_accuracy`),
-        0.1-0.3% error; triangle meshes only.
+        0.1-0.3% error; triangle meshes only. "auto": "high" for one query
+        (the settings' ``intent``) on a large triangle mesh where numba is
+        installed, else "smooth" (:func:`~heatcore.high_accuracy.resolve_accuracy`);
+        a solver kept for reuse (the default intent) is "smooth".
     backend : {"auto", "supernodal", "qdldl", "cholmod", "superlu", "gpu"}
         Sparse factorization backend (see :mod:`heatcore.linalg`).
     progress : callable, optional
@@ -123,7 +126,7 @@ class HeatSolver:
     """
 
     def __init__(self, domain, settings=None, *, progress=None, **options):
-        settings = SolverSettings.of(settings, **options)
+        settings = resolve_accuracy(SolverSettings.of(settings, **options), domain)
         if settings.accuracy == "high" and not domain.supports_high_accuracy:
             raise UnsupportedDomainError(f"accuracy='high' is available on triangle meshes, not on {type(domain).__name__}")
         self.settings = settings
@@ -132,10 +135,36 @@ class HeatSolver:
         self.domain = domain
         self._bounded = 0  # queries bounded near their sources (steps/source_bounds.py)
         self.path_fields = None  # geodesic paths' distance fields, made by the first path (paths/fields.py)
+        self.timings = {}
+        self._unreferenced = np.flatnonzero(np.asarray(domain.output_vertices) < 0)  # input vertices no element uses
         progress = Progress(progress)
         progress(0.0, "connected components")
+        # accuracy="high" with numba needs no heat: the operators (a domain may build them on first use), the time
+        # step and the factorizations wait for a first use (heat_flow, poisson, t, ...: see __getattr__).
+        if settings.accuracy == "high" and not high_accuracy_needs_heat() and domain.vertex_parts is not None:
+            self.n_components, self.component = domain.vertex_parts
+            self._waiting = progress
+        else:
+            self._prepare(progress)
+        progress(1.0, "heat solver ready")
+
+    #: The attributes :meth:`_prepare` sets, which wait for their first use where the solver needs no heat.
+    _PREPARED = frozenset(("ops", "has_boundary", "boundary", "factors", "part_m", "m_effective", "t", "_hops",
+                           "_element_h", "_two_step", "_gradient_transposed", "_exponent"))
+
+    def __getattr__(self, name):
+        """The attributes of :meth:`_prepare`, prepared on first use where the constructor let them wait."""
+        waiting = self.__dict__.get("_waiting")
+        if name not in self._PREPARED or waiting is None:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        self._prepare(waiting, deferred=True)  # the factorizations still wait (and report to it when built)
+        return getattr(self, name)
+
+    def _prepare(self, progress, deferred=None):
+        """Read the operators, find the time step and start (or defer) the factorizations."""
+        self.__dict__.pop("_waiting", None)
+        settings, domain = self.settings, self.domain
         ops = self.ops = domain.operators
-        self.timings = {}
         start = time.perf_counter()
         n = ops.n_vertices
         self.has_boundary = bool(ops.boundary.any())
@@ -143,14 +172,14 @@ class HeatSolver:
         # Orderings and the Laplacian's factor depend on the domain only: its cache shares them among its solvers.
         self.factors = SolverFactors(ops, domain.derived, settings, self.timings)
         # accuracy="high" with numba needs no factorization: they wait for a first use (heat_flow, poisson).
-        deferred = settings.accuracy == "high" and not high_accuracy_needs_heat()
+        if deferred is None:
+            deferred = settings.accuracy == "high" and not high_accuracy_needs_heat()
         if not deferred:
             self.factors.start()
 
         heat = self._heat_step(ops)
         self._gradient_transposed = ops.gradient.T  # a view: -div X = G^T (volumes * X)
         self._exponent = output_exponent(ops.unit_exponent)
-        self._unreferenced = np.flatnonzero(np.asarray(domain.output_vertices) < 0)  # input vertices no element uses
         self.timings["setup"] = time.perf_counter() - start
         if deferred:
             self.factors.defer(heat, progress)
@@ -159,7 +188,6 @@ class HeatSolver:
         boundary = f"boundary={self.boundary}" if self.has_boundary else "no boundary (closed)"
         log.info("heat solver ready: %d operator vertices, %d part%s, t=%.3g..%.3g, %s (%.2f s)", n, self.n_components,
                  "s" * (self.n_components != 1), self.t.min(), self.t.max(), boundary, sum(self.timings.values()))
-        progress(1.0, "heat solver ready")
 
     def _heat_step(self, ops):
         """Connected components, each one's time factor (``m`` raised by the underflow guard) and time step."""
@@ -329,7 +357,7 @@ class HeatSolver:
         :meth:`block_columns`."""
         solo = [j for j, pins in enumerate(block) if pins.vertices.size > MAX_PRECOMPUTED_PINS]
         columns = sorted(set(range(len(block))).difference(solo))
-        width = self.block_columns(max_memory_mb) if columns else 1
+        width = self.block_columns(max_memory_mb) if columns and "_waiting" not in self.__dict__ else 1
         return [[j] for j in solo] + [columns[start : start + width] for start in range(0, len(columns), width)]
 
     def block_columns(self, max_memory_mb=None):
@@ -380,7 +408,7 @@ class HeatSolver:
                 heat.append(self._heat_distances(block))
             return np.ascontiguousarray(heat[0][:, j])
 
-        phi = np.empty((self.ops.n_vertices, len(block)))
+        phi = np.empty((self.domain.n_vertices, len(block)))
         for j, pins in enumerate(block):
             phi[:, j] = high_accuracy_distance(self.domain, pins, lambda j=j: heat_column(j))
         return phi

@@ -17,7 +17,8 @@ Examples
 
 import numpy as np
 
-from .eikonal import TOL, corner_layout, refine_distance
+from .eikonal import TOL, refine_distance
+from .options import AUTO_HIGH_VERTICES
 
 
 def high_accuracy_distance(domain, pins, heat_distance, tol=TOL):
@@ -49,6 +50,30 @@ def high_accuracy_distance(domain, pins, heat_distance, tol=TOL):
     if high_accuracy_needs_heat():
         return refine_distance(domain, heat_distance(), pins, tol=tol)
     return march_from_pins(domain, pins, tol)
+
+
+def resolve_accuracy(settings, domain):
+    """``settings`` (:class:`~heatcore.settings.SolverSettings`) with ``accuracy="auto"`` resolved for ``domain``.
+
+    "high" for one query (the settings' ``intent``) on a domain that takes it
+    (triangle meshes) of at least ``AUTO_HIGH_VERTICES`` operator vertices,
+    where the compiled march is installed: it solves no heat, and is then
+    faster than the heat method; "smooth" otherwise (every other intent: a
+    solver kept for reuse, Blender's interactive one).
+
+    Examples
+    --------
+    >>> import numpy as np, heatcore as hc
+    >>> small = hc.TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0)
+    >>> one = hc.SolverSettings(intent="one query")
+    >>> one.accuracy, resolve_accuracy(one, small).accuracy, resolve_accuracy(one.replace(accuracy="high"), small).accuracy
+    ('auto', 'smooth', 'high')
+    """
+    if settings.accuracy != "auto":
+        return settings
+    high = (settings.intent == "one query" and domain.supports_high_accuracy
+            and domain.n_vertices >= AUTO_HIGH_VERTICES and not high_accuracy_needs_heat())
+    return settings.replace(accuracy="high" if high else "smooth")
 
 
 def high_accuracy_needs_heat():
@@ -83,11 +108,11 @@ def march_from_pins(domain, pins, tol=TOL):
     """
     from . import fast_marching
 
-    d = np.full(domain.operators.n_vertices, np.inf)
+    d = np.full(domain.n_vertices, np.inf)
     d[pins.vertices] = pins.values
     readers = domain.derived.get_or_build(  # kept in the domain's cache
         ("fast marching", None),
-        lambda: fast_marching.Readers(domain.operators.n_vertices, *corner_layout(*domain.eikonal_triangles())),
+        lambda: fast_marching.Readers.of_triangles(domain.n_vertices, *domain.eikonal_triangles()),
     )
     fast_marching.march(readers, d, pins.vertices, tol)
-    return np.ldexp(d, domain.operators.unit_exponent)
+    return np.ldexp(d, domain.vertex_unit_exponent)

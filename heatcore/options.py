@@ -280,6 +280,14 @@ HIGH_ACCURACY_COST_TEXT = (f"a query costs {'-'.join(f'{x:g}' for x in HIGH_ACCU
                            f"with the 'fast' extra (numba), {'-'.join(f'{x:g}' for x in HIGH_ACCURACY_COST['vectorized'])} "
                            "without it")
 
+#: ``accuracy="auto"`` is "high" for one query (:func:`heatcore.geodesic_distance`) on a triangle mesh of at least this
+#: many vertices (after refinement), where numba is installed; "smooth" otherwise. Measured with
+#: ``hc.geodesic_distance(V, F, [0])`` on cube spheres of 48k-194k vertices and nefertiti subdivided 0-2 times
+#: (50k-800k), a busy 2-core virtual machine, 2026-11-29: the march (its operators never built, nothing factored)
+#: takes 0.31-0.64 of the heat method's time at every size from 2.9k vertices, but a fresh process first loads the
+#: compiled march (0.28 s): counting that, the march is faster from about 72k vertices (101k: 0.61 s against 0.78 s).
+AUTO_HIGH_VERTICES = 100_000
+
 _OPTIONS = (
     Option(
         "m", "time factor", float, 1.0, "unitless (t = m h^2, h in mesh units)",
@@ -301,12 +309,16 @@ _OPTIONS = (
     Option(
         "accuracy", "accuracy", str, "smooth", "none (a choice)",
         f"smooth: the heat method (its error is 1-2%); high: an eikonal pass (about 0.1-0.3% error; "
-        f"{HIGH_ACCURACY_COST_TEXT})",
-        "solver", choices=("smooth", "high"),
+        f"{HIGH_ACCURACY_COST_TEXT}); auto: high for one query on a triangle mesh of {AUTO_HIGH_VERTICES:,} vertices "
+        "or more where the 'fast' extra (numba) is installed (its fast marching, with no heat solved, is then "
+        "faster), smooth otherwise",
+        "solver", choices=("smooth", "high", "auto"),
         choice_help=("The heat method: smooth distance, about 1-2% error",
                      f"An eikonal pass: about 0.1-0.3% error, {HIGH_ACCURACY_COST['numba'][0]:g}-"
-                     f"{HIGH_ACCURACY_COST['vectorized'][1]:g} times slower (see the docs)"),
-        flag="--accuracy", front_end_defaults=(("vector heat", "high", "high: the log map's radius"),
+                     f"{HIGH_ACCURACY_COST['vectorized'][1]:g} times slower (see the docs)",
+                     "High for one query on a large triangle mesh where it is faster, else smooth"),
+        flag="--accuracy", front_end_defaults=(("api", "auto", "auto"),
+                                               ("vector heat", "high", "high: the log map's radius"),
                                                ("blender uv map", "high", "high: the UV map's radii")),
     ),
     Option(

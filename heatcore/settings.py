@@ -252,6 +252,7 @@ class SolverSettings(OptionGroup):
     def _extra(self):
         return {"intent": self.intent}
 
+
 @dataclass(frozen=True)
 class Settings:
     """Everything a front end's user set, checked once and split by where it goes.

@@ -9,7 +9,9 @@ million), measured against great-circle distances at every vertex.
 
 Reported per mesh and solver: precompute time (constructor), first query, cached query (median of
 3), peak resident memory of the child, mean relative error at the original vertices (source:
-vertex 0), and the count of reachable original vertices left at 0, inf or NaN.
+vertex 0), and the count of reachable original vertices left at 0, inf or NaN. ``heatcore-oneoff``
+times the whole ``hc.geodesic_distance(V, F, [v])`` call as its query (precompute 0, as MeshLab's
+filters, which keep nothing across calls either).
 
 Usage::
 
@@ -35,6 +37,7 @@ DEFAULT_MESHES = "nefertiti:0,nefertiti:1,cheburashka:3,nefertiti:2,sphere:408,c
 SOLVERS = [
     "heatcore",
     "heatcore-high",  # accuracy="high": its first query also builds the fast marching's corner table
+    "heatcore-oneoff",  # hc.geodesic_distance(V, F, [v]): the whole call is the query (accuracy="auto")
     "potpourri3d-robust",
     "potpourri3d-plain",
     "libigl",
@@ -104,7 +107,12 @@ def peak_rss_gb():
 def run_solver(solver, V, F):
     """(precompute seconds, [query seconds], distance from vertex 0, {stage: seconds}) for one solver."""
     timings = {}
-    if solver.startswith("heatcore"):
+    if solver == "heatcore-oneoff":
+        import heatcore as hc
+
+        pre = 0.0  # nothing kept across calls: each query builds the mesh (and what its accuracy needs)
+        query = lambda v: hc.geodesic_distance(V, F, [v])
+    elif solver.startswith("heatcore"):
         import heatcore as hc
 
         start = time.perf_counter()

@@ -136,6 +136,6 @@ def test_a_polygon_build_reports_its_stages(addon):  # noqa: F811
     messages = [m for _, m in seen]
     assert "checking the polygons' shapes (crossing sides, concave corners)" in messages
     # every quad triangulated: the triangles are built as heatcore.TriangleMesh builds them, stage by stage
-    assert "cotan Laplacian, mass and gradient" in messages and "factoring the Poisson matrix" in messages
+    assert "intrinsic Delaunay flips" in messages and "factoring the Poisson matrix" in messages
     fractions = [f for f, _ in seen]
     assert all(b >= a for a, b in zip(fractions, fractions[1:])) and len(set(fractions)) >= 6

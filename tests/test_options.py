@@ -238,7 +238,7 @@ def test_geodesic_distance_keywords_are_the_declared_ones():
     doc = _flat(hc.geodesic_distance.__doc__)
     for name in API_OPTIONS:
         opt = OPTIONS[name]
-        assert params[name].default == opt.default, name
+        assert params[name].default == opt.default_for("api"), name
         assert _flat(opt.help) in doc, f"geodesic_distance's docstring lacks the help text of {name}"
 
 

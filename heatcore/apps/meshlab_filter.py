@@ -100,8 +100,10 @@ def geodesic_distance_from_selection(
         Heat time factor, ``t = m h^2``; larger gives a smoother distance.
     boundary : {"robin", "neumann", "dirichlet"}, default "robin"
         Boundary condition of the heat step on meshes with holes.
-    accuracy : {"smooth", "high"}, default "smooth"
-        "high": an eikonal pass, about 5 times closer to exact (see :class:`heatcore.HeatSolver`).
+    accuracy : {"smooth", "high", "auto"}, default "smooth"
+        "high": an eikonal pass, about 5 times closer to exact (see :class:`heatcore.HeatSolver`);
+        "auto": "high" on a mesh of 100,000 vertices or more where numba is installed (the filter
+        answers one query), else "smooth".
     backend : {"auto", "supernodal", "qdldl", "cholmod", "superlu", "gpu"}, default "auto"
         Sparse factorization backend; "auto": the one that factors fastest
         (the filter answers one query; see :mod:`heatcore.linalg`).

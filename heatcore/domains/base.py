@@ -88,6 +88,31 @@ class Domain(ABC):
         return cache
 
     @property
+    def n_vertices(self):
+        """Number of operator vertices: ``operators.n_vertices``, known without the operators where they are
+        built on first use (:class:`~heatcore.domains.triangle.TriangleMesh`).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from heatcore.domains import TetMesh
+        >>> TetMesh(np.r_[np.eye(3), [[0.0, 0.0, 0.0]]], [[0, 1, 2, 3]]).n_vertices
+        4
+        """
+        return self.operators.n_vertices
+
+    @property
+    def vertex_unit_exponent(self):
+        """Each operator vertex's length unit, as ``operators.unit_exponent`` (int array, or 0)."""
+        return self.operators.unit_exponent
+
+    @property
+    def vertex_parts(self):
+        """``(count, part of each operator vertex)`` where the domain knows them without its operators, else None
+        (the solver finds them on the operators' elements)."""
+        return None
+
+    @property
     @abstractmethod
     def n_input_vertices(self):
         """Number of vertices (or points) of the domain as given."""

@@ -5,14 +5,15 @@ Two steps that every triangle-based domain shares:
 * :func:`triangle_operators`: cotan Laplacian, lumped mass, per-triangle
   gradient (in a 2D layout of each triangle) and element areas from the
   edge lengths alone;
-* :func:`intrinsic_operators`: the whole build from a mesh with its edge
-  table: boundary vertices, mean edge length (per connected part),
-  mollification and intrinsic Delaunay flips at unit mean edge length, then
-  :func:`triangle_operators` on the flipped triangles.
+* :func:`intrinsic_triangulation`: from a mesh with its edge table,
+  boundary vertices, mean edge length (per connected part), mollification
+  and intrinsic Delaunay flips at unit mean edge length; its
+  :meth:`~IntrinsicBuild.operators` are :func:`triangle_operators` on the
+  flipped triangles, and :func:`intrinsic_operators` both at once.
 
 :class:`~heatcore.domains.triangle.TriangleMesh` runs
-:func:`intrinsic_operators` on its (refined) faces, one connected part at a
-time; :class:`~heatcore.domains.pointcloud.PointCloud` on the tufted cover of
+:func:`intrinsic_triangulation` on its (refined) faces, one connected part at a
+time, and builds the operators on first use; :class:`~heatcore.domains.pointcloud.PointCloud` on the tufted cover of
 its proposed triangles (:func:`~heatcore.domains.pointcloud.tufted_cover`);
 :class:`~heatcore.domains.polygon.PolygonMesh` calls :func:`triangle_operators`
 on its fan triangles.
@@ -120,12 +121,11 @@ def segment_lengths(V, pairs):
     return np.sqrt(squares, out=squares)
 
 
-class IntrinsicOperators(NamedTuple):
-    """What :func:`intrinsic_operators` builds.
+class IntrinsicBuild(NamedTuple):
+    """What :func:`intrinsic_triangulation` builds: the triangulation, and what its operators take besides.
 
     Attributes
     ----------
-    operators : Operators
     intrinsic : IntrinsicTriangulation
         The (flipped) triangulation the operators are built on, lengths in the input's units.
     n_flips : int
@@ -136,6 +136,49 @@ class IntrinsicOperators(NamedTuple):
         Mean edge length (of each part), in the input's units.
     thin_parts : int array
         Parts mollified again because their triangles were thinner than ``thin_slack``.
+    boundary : (n,) bool array
+        Boundary vertices.
+    mean_edge_length : float or (n,) float array
+        ``h`` of each vertex's part (one float without parts).
+    unit_exponent : int or (n,) int array
+        Each vertex's length unit (see :class:`~heatcore.domains.operators.Operators`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from heatcore.domains.refine import unique_edges
+    >>> F = np.array([[0, 1, 2]])
+    >>> built = intrinsic_triangulation(np.eye(3), F, *unique_edges(F))
+    >>> built.n_flips, built.eps, round(built.h, 3), built.intrinsic.faces.tolist()
+    (0, 0.0, 1.414, [[0, 1, 2]])
+    >>> built.operators().laplacian.shape
+    (3, 3)
+    """
+
+    intrinsic: IntrinsicTriangulation
+    n_flips: int
+    eps: object
+    h: object
+    thin_parts: np.ndarray
+    boundary: np.ndarray
+    mean_edge_length: object
+    unit_exponent: object
+
+    def operators(self):
+        """The cotan operators on the triangulation (:func:`triangle_operators`)."""
+        tri = self.intrinsic
+        return triangle_operators(tri.lengths, tri.faces, self.boundary.size, self.boundary, self.mean_edge_length,
+                                  self.unit_exponent)
+
+
+class IntrinsicOperators(NamedTuple):
+    """What :func:`intrinsic_operators` builds: :class:`IntrinsicBuild`'s fields and the operators on them.
+
+    Attributes
+    ----------
+    operators : Operators
+    intrinsic, n_flips, eps, h, thin_parts
+        As in :class:`IntrinsicBuild`.
 
     Examples
     --------
@@ -155,18 +198,49 @@ class IntrinsicOperators(NamedTuple):
     thin_parts: np.ndarray
 
 
-def intrinsic_operators(
+def intrinsic_operators(V, F, edges, side_edge, *, progress=None, **options):
+    """Cotan operators of a triangle mesh, on its mollified intrinsic Delaunay triangulation.
+
+    :func:`intrinsic_triangulation` (same parameters), then
+    :func:`triangle_operators` on the flipped triangles.
+
+    Returns
+    -------
+    IntrinsicOperators
+        The operators and what the build measured on the way.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from heatcore.domains.refine import unique_edges
+    >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
+    >>> F = np.array([[0, 1, 2], [1, 3, 2]])
+    >>> built = intrinsic_operators(V, F, *unique_edges(F))
+    >>> built.operators.boundary.tolist(), built.n_flips, round(built.h, 4)
+    ([True, True, True, True], 0, 1.0828)
+    >>> V[3] = [0.6, 0.6, 0]  # the angles opposite the diagonal sum to over pi: it is flipped
+    >>> intrinsic_operators(V, F, *unique_edges(F)).n_flips
+    1
+    """
+    progress = Progress(progress)
+    built = intrinsic_triangulation(V, F, edges, side_edge, progress=progress.part(0.0, 0.6), **options)
+    progress(0.6, "cotan Laplacian, mass and gradient")
+    return IntrinsicOperators(built.operators(), *built[:5])
+
+
+def intrinsic_triangulation(
     V, F, edges, side_edge, *, part=None, n_parts=1, cover=None, rim=None, flip=True, thin_slack=None, unit_exponent=0,
     progress=None, side_pairs=None,
 ):
-    """Cotan operators of a triangle mesh, on its mollified intrinsic Delaunay triangulation.
+    """The mollified intrinsic Delaunay triangulation of a triangle mesh, ready for its cotan operators.
 
     The edges are measured in ``V``; each connected part is scaled to unit
     mean edge length, mollified (every triangle gets a slack ``l_a + l_b -
     l_c`` of at least ``MOLLIFY_SLACK``), flipped to intrinsic Delaunay and
-    scaled back, and :func:`triangle_operators` builds the bundle on the
-    flipped triangles. Working at unit mean edge length makes the result
-    scale exactly with the mesh.
+    scaled back; :meth:`IntrinsicBuild.operators` builds the bundle on the
+    flipped triangles (:func:`triangle_operators`), when they are needed.
+    Working at unit mean edge length makes the result scale exactly with
+    the mesh.
 
     Parameters
     ----------
@@ -209,8 +283,8 @@ def intrinsic_operators(
 
     Returns
     -------
-    IntrinsicOperators
-        The operators and what the build measured on the way.
+    IntrinsicBuild
+        The triangulation and what the build measured on the way.
 
     Raises
     ------
@@ -223,12 +297,9 @@ def intrinsic_operators(
     >>> from heatcore.domains.refine import unique_edges
     >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
     >>> F = np.array([[0, 1, 2], [1, 3, 2]])
-    >>> built = intrinsic_operators(V, F, *unique_edges(F))
-    >>> built.operators.boundary.tolist(), built.n_flips, round(built.h, 4)
+    >>> built = intrinsic_triangulation(V, F, *unique_edges(F))
+    >>> built.boundary.tolist(), built.n_flips, round(built.h, 4)
     ([True, True, True, True], 0, 1.0828)
-    >>> V[3] = [0.6, 0.6, 0]  # the angles opposite the diagonal sum to over pi: it is flipped
-    >>> intrinsic_operators(V, F, *unique_edges(F)).n_flips
-    1
     """
     progress = Progress(progress)
     progress(0.0, "intrinsic Delaunay flips" if flip else "mollifying the triangles")
@@ -284,6 +355,4 @@ def intrinsic_operators(
             delta = np.where(least < thin_slack, thin_slack, MOLLIFY_SLACK)
             tri, eps, n_flips = triangulate(delta if face_part is not None else float(delta[0]))
     tri.lengths *= face_h
-    progress(0.6, "cotan Laplacian, mass and gradient")
-    ops = triangle_operators(tri.lengths, tri.faces, n, boundary, vertex_h, unit_exponent)
-    return IntrinsicOperators(ops, tri, n_flips, eps, h, thin_parts)
+    return IntrinsicBuild(tri, n_flips, eps, h, thin_parts, boundary, vertex_h, unit_exponent)

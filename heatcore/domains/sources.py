@@ -208,7 +208,7 @@ def build_source_pins(domain, vertices=None, **kinds):
         raise InvalidSourceError(
             f"a {domain.domain_name} takes only {', '.join(domain.source_kinds)} as sources, not {', '.join(refused)}"
         )
-    builder = PinBuilder(domain.operators.n_vertices, heat_once=domain.unit_heat_once)
+    builder = PinBuilder(domain.n_vertices, heat_once=domain.unit_heat_once)
     pin = {"vertices": domain._pin_vertices, "points": domain._pin_points, "edges": domain._pin_edges,
            "region": domain._pin_region}
     for kind in domain.source_kinds:

@@ -14,6 +14,7 @@ Examples
 """
 
 import dataclasses
+import functools
 import warnings
 
 import numpy as np
@@ -26,7 +27,7 @@ from ..errors import (
 from ..progress import Progress
 from ..settings import MeshSettings
 from .base import MeshDomain
-from .cotan import intrinsic_operators
+from .cotan import intrinsic_triangulation
 from .flat_parts import flat_parts
 from .intrinsic import face_edge_lengths
 from .parts import in_part_units, unit_exponents, vertex_components
@@ -84,8 +85,8 @@ class TriangleMesh(MeshDomain):
         vertex apart. Distances are still reported at every input vertex.
     progress : callable, optional
         ``progress(fraction, message)`` at the start of each stage of the
-        build (welding, connected parts, refinement, intrinsic Delaunay flips,
-        operators) and with 1.0 at the end; it may raise to abort the build
+        build (welding, connected parts, refinement, intrinsic Delaunay flips)
+        and with 1.0 at the end; it may raise to abort the build
         (see :mod:`heatcore.progress`). Default: silent.
     only_parts_of : sequence of int, optional
         Input vertices: only the connected parts that hold one of them are
@@ -103,6 +104,8 @@ class TriangleMesh(MeshDomain):
     Attributes
     ----------
     operators : Operators
+        Built on first use: the compiled ``accuracy="high"`` pass needs only
+        :attr:`intrinsic`.
     n_welded : int
         Input vertices merged into another one by welding.
     n_parts : int
@@ -194,7 +197,7 @@ class TriangleMesh(MeshDomain):
         levels = f"{self.levels} level{'s' * (self.levels > 1)}"
         progress(0.2, f"midpoint subdivision ({levels})" if self.levels else "listing the edges")
         self.subdivision = midpoint_subdivide(in_part_units(V_used, part, self.unit_exponent), F_used, face_levels)
-        self.operators = self._build_operators(self.subdivision.carry(part, F_used), progress.part(0.4, 1.0))
+        self._triangulate(self.subdivision.carry(part, F_used), progress.part(0.4, 1.0))
         progress(1.0, "triangle mesh ready")
 
     def _welded(self):
@@ -270,10 +273,12 @@ class TriangleMesh(MeshDomain):
         self.left_out = (*self.left_out, (mask, why))
         return mask
 
-    def _build_operators(self, part, progress=None):
+    def _triangulate(self, part, progress=None):
+        """The intrinsic Delaunay triangulation (:func:`~heatcore.domains.cotan.intrinsic_triangulation`) of the
+        subdivision, whose vertices are in connected parts ``part``; the operators wait for their first use."""
         sub = self.subdivision
         robust = self.robust
-        built = intrinsic_operators(
+        built = intrinsic_triangulation(
             sub.vertices,
             sub.faces,
             sub.mesh_edges,
@@ -287,13 +292,44 @@ class TriangleMesh(MeshDomain):
             side_pairs=sub.side_pairs,
         )
         self.n_flips, self.thin_parts, self.intrinsic = built.n_flips, built.thin_parts, built.intrinsic
+        self._built = built
         # The parts of the input faces, carried to the refined vertices: flips keep parts, and each part is still
         # numbered by its smallest vertex (an input vertex), so they are the parts of the operators' elements.
-        built.operators.parts = (self.n_parts, part)
+        self._vertex_parts = (self.n_parts, part)
         self.mollification = np.ldexp(built.eps * built.h, self.unit_exponent)
         # Only the build needs the refined mesh's edges (1M vertices: 48-96 MB).
         self.subdivision = dataclasses.replace(sub, mesh_edges=None, side_edge=None, side_pairs=None)
-        return built.operators
+
+    @functools.cached_property
+    def operators(self):
+        """The cotan operators on :attr:`intrinsic`, built on first use (a one-off ``accuracy="high"`` query with
+        numba needs none; on a 1M-vertex sphere they take 0.7-1.5 s and keep 0.27 GB, 0.48 GB at their peak).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> mesh = TriangleMesh(np.eye(3), [[0, 1, 2]], refine=0)
+        >>> "operators" in vars(mesh), mesh.operators.n_vertices, "operators" in vars(mesh)
+        (False, 3, True)
+        """
+        operators = self._built.operators()
+        operators.parts = self._vertex_parts
+        return operators
+
+    @property
+    def n_vertices(self):
+        """Number of operator vertices (without building the operators)."""
+        return self._vertex_parts[1].size
+
+    @property
+    def vertex_unit_exponent(self):
+        """Each operator vertex's length unit (without building the operators)."""
+        return self._built.unit_exponent
+
+    @property
+    def vertex_parts(self):
+        """``(n_parts, part of each operator vertex)``, the operators' ``parts`` (without building them)."""
+        return self._vertex_parts
 
     def eikonal_triangles(self):
         """The intrinsic Delaunay triangles, and the (refined) mesh's own where flips replaced them, with their lengths.
@@ -332,7 +368,7 @@ class TriangleMesh(MeshDomain):
         refined = self.part_levels > 0
         if not refined.any():
             return None
-        return True if refined.all() else refined[self.operators.parts[1]]
+        return True if refined.all() else refined[self._vertex_parts[1]]
 
     def _element_corners(self):
         kept = np.flatnonzero(self.face_map >= 0)
@@ -434,7 +470,7 @@ class TriangleMesh(MeshDomain):
 
     def _edge_ids(self, compact_pairs, user_pairs):
         edges = self.subdivision.edges
-        n = self.operators.n_vertices
+        n = self.n_vertices
         keys = edges[:, 0] * n + edges[:, 1]
         query = compact_pairs[:, 0] * n + compact_pairs[:, 1]
         pos = np.clip(np.searchsorted(keys, query), 0, keys.size - 1)
@@ -461,7 +497,7 @@ class TriangleMesh(MeshDomain):
         cf = cf[cf >= 0]
         tri = self.vertex_map[self.faces[user_faces]]
         sides = np.sort(np.stack([tri[:, [1, 2, 0]], tri[:, [2, 0, 1]]], axis=2).reshape(-1, 2), axis=1)
-        n = self.operators.n_vertices
+        n = self.n_vertices
         keys = sub.edges[:, 0] * n + sub.edges[:, 1]
         query = sides[:, 0] * n + sides[:, 1]
         pos = np.clip(np.searchsorted(keys, query), 0, keys.size - 1)

@@ -115,6 +115,8 @@ class SignedHeatSolver:
                 'the signed heat method has no accuracy="high": its own distance is already 23-144 times closer to '
                 "exact than the eikonal pass from the curve's points (docs/signed.md); use the default"
             )
+        if settings.accuracy == "auto":  # the Python API's default, from its settings: never the march here
+            settings = settings.replace(accuracy="smooth")
         self._vertices_only = isinstance(domain, (PolygonMesh, PointCloud))
         if isinstance(domain, PolygonMesh):
             domain = _triangulated(domain)

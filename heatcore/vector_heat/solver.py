@@ -31,6 +31,7 @@ import scipy.sparse as sp
 from ..domains.triangle import TriangleMesh
 from ..errors import InvalidSourceError, UnsupportedDomainError
 from ..heat import HeatSolver
+from ..high_accuracy import resolve_accuracy
 from ..linalg import factor, solve_columns
 from ..linalg.hermitian import factor_hermitian
 from ..settings import SolverSettings
@@ -97,6 +98,7 @@ class VectorHeatSolver:
     domain : TriangleMesh
     settings : SolverSettings
     accuracy : {"smooth", "high"}
+        As resolved ("auto" is "smooth": the solver is kept for reuse).
     distance_solver : HeatSolver
         The scalar heat method on the same domain (radii, magnitudes).
     timings : dict
@@ -127,6 +129,7 @@ class VectorHeatSolver:
             raise UnsupportedDomainError(
                 f"the vector heat method runs on triangle meshes (TriangleMesh), not on a {domain.domain_name}"
             )
+        settings = resolve_accuracy(settings, domain)
         self.domain = domain
         self.settings = settings
         self.accuracy = settings.accuracy
