@@ -318,6 +318,7 @@ _OPTIONS = (
                      f"{HIGH_ACCURACY_COST['vectorized'][1]:g} times slower (see the docs)",
                      "High for one query on a large triangle mesh where it is faster, else smooth"),
         flag="--accuracy", front_end_defaults=(("api", "auto", "auto"),
+                                               ("cli", "auto", "auto: high for a distance on a large mesh with numba"),
                                                ("vector heat", "high", "high: the log map's radius"),
                                                ("blender uv map", "high", "high: the UV map's radii")),
     ),

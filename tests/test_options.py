@@ -180,7 +180,7 @@ def test_cli_makes_one_settings_object_of_the_options_set():
     args = subparser("distance").parse_args(["x.ply", "--m", "3", "--refine", "2", "--no-weld", "--no-robust"])
     settings = settings_of(args, intent="one query")
     assert settings.mesh.keywords() == {"robust": False, "refine": 2, "weld": None}
-    assert settings.solver.keywords() == {"m": 3.0, "boundary": "robin", "accuracy": "smooth", "backend": "auto"}
+    assert settings.solver.keywords() == {"m": 3.0, "boundary": "robin", "accuracy": "auto", "backend": "auto"}
     assert settings.mesh.given == {"robust", "refine", "weld"} and settings.solver.intent == "one query"
     assert settings_of(subparser("distance").parse_args(["x.ply"])).mesh.given == frozenset()
     logmap = settings_of(subparser("logmap").parse_args(["x.ply", "-s", "0"]), "vector heat")
