@@ -186,8 +186,8 @@ class IntrinsicOperators(NamedTuple):
     >>> from heatcore.domains.refine import unique_edges
     >>> F = np.array([[0, 1, 2]])
     >>> built = intrinsic_operators(np.eye(3), F, *unique_edges(F))
-    >>> built.n_flips, built.eps, round(built.h, 3), built.intrinsic.faces.tolist()
-    (0, 0.0, 1.414, [[0, 1, 2]])
+    >>> built.operators.laplacian.shape, built.operators.mass.round(3).tolist()
+    ((3, 3), [0.289, 0.289, 0.289])
     """
 
     operators: Operators
