@@ -319,6 +319,7 @@ _OPTIONS = (
                      "High for one query on a large triangle mesh where it is faster, else smooth"),
         flag="--accuracy", front_end_defaults=(("api", "auto", "auto"),
                                                ("cli", "auto", "auto: high for a distance on a large mesh with numba"),
+                                               ("meshlab", "auto", "auto: high on a large mesh with numba"),
                                                ("vector heat", "high", "high: the log map's radius"),
                                                ("blender uv map", "high", "high: the UV map's radii")),
     ),

@@ -72,7 +72,7 @@ def geodesic_distance_from_selection(
     *,
     m=1.0,
     boundary="robin",
-    accuracy="smooth",
+    accuracy="auto",
     backend="auto",
     robust=True,
     refine="auto",
@@ -100,7 +100,7 @@ def geodesic_distance_from_selection(
         Heat time factor, ``t = m h^2``; larger gives a smoother distance.
     boundary : {"robin", "neumann", "dirichlet"}, default "robin"
         Boundary condition of the heat step on meshes with holes.
-    accuracy : {"smooth", "high", "auto"}, default "smooth"
+    accuracy : {"smooth", "high", "auto"}, default "auto"
         "high": an eikonal pass, about 5 times closer to exact (see :class:`heatcore.HeatSolver`);
         "auto": "high" on a mesh of 100,000 vertices or more where numba is installed (the filter
         answers one query), else "smooth".
