@@ -25,7 +25,7 @@ Examples
 --------
 >>> s = Settings.of("cli", m=2, refine=0)
 >>> s.solver.m, s.solver.accuracy, s.mesh.refine, s.output.isolines
-(2.0, 'smooth', 0, None)
+(2.0, 'auto', 0, None)
 >>> s.mesh.given
 frozenset({'refine'})
 >>> Settings.of("meshlab", domain="tet")
