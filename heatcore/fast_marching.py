@@ -36,25 +36,7 @@ Examples
 
 import numpy as np
 
-from .linalg.libraries import optional
-
-_numba = optional("numba")
-
-
-def _compiled(function):
-    """``function`` compiled by numba on its first call (cached on disk), or as it is without numba."""
-    return function if _numba is None else _numba.njit(cache=True, nogil=True, error_model="numpy")(function)
-
-
-def available():
-    """Whether numba is installed, so that :func:`march` can run.
-
-    Examples
-    --------
-    >>> isinstance(available(), bool)
-    True
-    """
-    return _numba is not None
+from .compiled import available, compiled  # noqa: F401 (available: the callers ask fast_marching.available())
 
 
 def march(readers, d, pinned, tol):
@@ -179,7 +161,7 @@ class Readers:
         return readers
 
 
-@_compiled
+@compiled
 def _march_loop(start, rows, corners, layout, d, is_pinned, pinned, tol):  # pragma: no cover - compiled
     """The heap loop of :func:`march` (plain Python, compiled by numba)."""
     n = d.size
@@ -218,7 +200,7 @@ def _row_codes(k):
     return np.empty(2 * k, dtype=np.int32 if 2 * k < 2**31 else np.int64)
 
 
-@_compiled
+@compiled
 def _by_reader(n, corners, rows):  # pragma: no cover - compiled
     """:class:`Readers`' ``start``, and its ``rows`` filled in: a counting sort of the corners by reading vertex
     (the ``A`` of each corner, then its ``B``, corner by corner)."""
@@ -236,7 +218,7 @@ def _by_reader(n, corners, rows):  # pragma: no cover - compiled
     return start, rows
 
 
-@_compiled
+@compiled
 def _first_corner(f, t):  # pragma: no cover - compiled
     """The corner of triangle ``t`` at its smallest vertex (the first of them, as ``np.argmin``)."""
     k = 0
@@ -247,7 +229,7 @@ def _first_corner(f, t):  # pragma: no cover - compiled
     return k
 
 
-@_compiled
+@compiled
 def _kept_in_order(f, n):  # pragma: no cover - compiled
     """The triangles :func:`~heatcore.eikonal.corner_layout` keeps, in its order: turned to start at their smallest
     vertex, sorted (a counting sort by it, then a stable sort by the other two), the first of equal ones."""
@@ -281,7 +263,7 @@ def _kept_in_order(f, n):  # pragma: no cover - compiled
     return order[kept]
 
 
-@_compiled
+@compiled
 def _turned_corners(f, lengths, kept):  # pragma: no cover - compiled
     """:class:`Readers`' ``corners`` and ``layout`` of :func:`~heatcore.eikonal.corner_layout`'s corners of the
     ``kept`` triangles, each computed as there (the same floating-point operations, in the same order)."""
@@ -311,7 +293,7 @@ def _turned_corners(f, lengths, kept):  # pragma: no cover - compiled
     return corners, layout
 
 
-@_compiled
+@compiled
 def _triangle(da, db, c, x, y, ca, cb):  # pragma: no cover - compiled
     """:func:`heatcore.eikonal.triangle_update` for one corner."""
     edge = min(da + ca, db + cb)
@@ -327,7 +309,7 @@ def _triangle(da, db, c, x, y, ca, cb):  # pragma: no cover - compiled
     return edge
 
 
-@_compiled
+@compiled
 def _sift_up(heap, where, d, size, v):  # pragma: no cover - compiled
     """Put ``v`` on the heap of ``size`` vertices, or move it up after its ``d`` decreased; the new size."""
     k = where[v]
@@ -347,7 +329,7 @@ def _sift_up(heap, where, d, size, v):  # pragma: no cover - compiled
     return size
 
 
-@_compiled
+@compiled
 def _pop(heap, where, d, size):  # pragma: no cover - compiled
     """Remove the first vertex of the heap of ``size`` vertices; the new size."""
     where[heap[0]] = -1

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..compiled import build_kernels
 from .parts import part_extremes, part_means, row_reduce
 from .refine import unique_edges
 
@@ -234,16 +235,22 @@ class IntrinsicTriangulation:
         """
         total = 0
         tol = 1e-12
-        renamed = np.full(self.twin.size, -1, dtype=np.int64)  # scratch for _flip
-        allowed = np.ones(self.faces.shape[0], dtype=bool) if flippable is None else np.asarray(flippable, bool)
+        kernels = build_kernels(self.faces.shape[0])  # a large mesh: compiled tests and flips, the same numbers
+        if kernels is not None and not kernels.fits(self.faces, self.lengths, self.twin):
+            kernels = None
+        renamed = np.full(self.twin.size, -1, dtype=np.int64) if kernels is None else None  # scratch for _flip
+        allowed = None if flippable is None else np.asarray(flippable, bool)
         candidates = np.flatnonzero(self.twin > np.arange(self.twin.size))
         cotangents = None  # every corner's, once many edges are asked about; then kept up to date
         for _ in range(max_rounds):
-            candidates = candidates[allowed[candidates // 3] & allowed[self.twin[candidates] // 3]]
+            if allowed is not None:
+                candidates = candidates[allowed[candidates // 3] & allowed[self.twin[candidates] // 3]]
             h, t = candidates, self.twin[candidates]
-            if cotangents is None and 2 * h.size > self.lengths.shape[0]:  # many faces: all at once is faster
+            if kernels is None and cotangents is None and 2 * h.size > self.lengths.shape[0]:  # many: all at once
                 cotangents = corner_cotangents(self.lengths).ravel()
-            if cotangents is None:
+            if kernels is not None:
+                cot_sum = kernels.cotangent_sums(self.lengths, h, t)
+            elif cotangents is None:
                 cot_sum = _corner_cotangent(self.lengths, h) + _corner_cotangent(self.lengths, t)
             else:
                 cot_sum = cotangents[h] + cotangents[t]
@@ -258,7 +265,10 @@ class IntrinsicTriangulation:
                 break
             h, t, f0, f1, score = h[bad], t[bad], f0[bad], f1[bad], cot_sum[bad]
             chosen = _independent_edges(f0, f1, score, self.faces.shape[0])
-            self._flip(h[chosen], t[chosen], renamed)
+            if kernels is None:
+                self._flip(h[chosen], t[chosen], renamed)
+            else:
+                kernels.flip_pairs(self.faces, self.lengths, self.twin, h[chosen], t[chosen])
             total += int(chosen.sum())
             # Only edges of the flipped faces, and bad edges left for later, can be non-Delaunay now.
             touched = np.concatenate([f0[chosen], f1[chosen]])

@@ -1,0 +1,52 @@
+"""numba, the ``fast`` extra: the one place that compiles heatcore's loops, and decides when a build uses them.
+
+numba is imported on first need (about 0.25 s), by :func:`available` or by
+importing a module of compiled loops (:mod:`heatcore.fast_marching`,
+:mod:`heatcore.domains.build_kernels`), and each compiled loop is loaded
+from numba's disk cache on its first call (about 0.05 s). Without numba,
+:func:`available` is False and :func:`compiled` leaves a function as it is
+(plain Python; the callers take their numpy path instead).
+
+Examples
+--------
+>>> build_kernels(1_000) is None  # a small mesh's build: numpy (importing numba costs more than it saves)
+True
+"""
+
+from .linalg.libraries import optional
+
+#: Faces from which a triangle mesh's build uses :mod:`heatcore.domains.build_kernels` (where numba is installed).
+#: On a 1M-vertex sphere (2M faces) they take 0.6-1.5 s off the build; importing numba and loading them costs
+#: about 0.4 s in a fresh process, which a build of fewer faces does not win back.
+LARGE_BUILD_FACES = 400_000
+
+
+def available():
+    """Whether numba is installed (imports it).
+
+    Examples
+    --------
+    >>> isinstance(available(), bool)
+    True
+    """
+    return optional("numba") is not None
+
+
+def compiled(function):
+    """``function`` compiled by numba on its first call (cached on disk next to its module where that is
+    writable), or as it is without numba."""
+    numba = optional("numba")
+    return function if numba is None else numba.njit(cache=True, nogil=True, error_model="numpy")(function)
+
+
+def build_kernels(n_faces):
+    """:mod:`heatcore.domains.build_kernels` where a build of ``n_faces`` faces uses it, else None.
+
+    It does from :data:`LARGE_BUILD_FACES` faces on, where numba is installed;
+    its results are bit for bit the numpy path's.
+    """
+    if n_faces < LARGE_BUILD_FACES or not available():
+        return None
+    from .domains import build_kernels as kernels
+
+    return kernels
