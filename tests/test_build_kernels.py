@@ -33,7 +33,7 @@ def test_only_large_builds_take_the_kernels(monkeypatch):
 
 def both_paths(monkeypatch, build):
     """``build()`` on the numpy path and with the kernels, and how often each kernel ran in the second."""
-    runs = {"edge_table": 0, "cotangent_sums": 0, "flip_pairs": 0}
+    runs = dict.fromkeys(("edge_table", "vertex_components", "twins_of_pairs", "cotangent_sums", "flip_pairs"), 0)
 
     def counting(name, kernel):
         def counted(*args):
@@ -139,6 +139,49 @@ def test_a_mesh_built_with_the_kernels_is_the_same_mesh(monkeypatch):
         return mesh, hc.HeatSolver(mesh).distance([0])
 
     (plain, d_plain), (fast, d_fast), runs = both_paths(monkeypatch, built)
-    assert runs["edge_table"] >= 1 and runs["flip_pairs"] >= 1
+    assert all(runs.values()), runs
     assert_same_triangulation(plain.intrinsic, fast.intrinsic)
     np.testing.assert_array_equal(d_plain, d_fast)
+
+
+def test_a_one_off_on_many_parts_is_the_same(monkeypatch):
+    """Three noisy spots side by side, the source on the second: the same parts kept, the same distances."""
+    V, F = noisy("spot", 3)
+    width = np.ptp(V[:, 0]) * 1.5
+    V = np.vstack([V + [k * width, 0, 0] for k in range(3)])
+    F = np.vstack([F + k * len(V) // 3 for k in range(3)])
+    source = [int(F.max() + 1) // 3 + 10]
+    plain, fast, runs = both_paths(monkeypatch, lambda: hc.geodesic_distance(V, F, source))
+    assert runs["vertex_components"] >= 1
+    np.testing.assert_array_equal(plain, fast)
+    assert np.isinf(fast).sum() == 2 * len(V) // 3 and np.isfinite(fast[len(V) // 3 : 2 * len(V) // 3]).all()
+
+
+@given(meshes(max_parts=3))
+@settings(max_examples=40, deadline=None)
+def test_components_and_twins_are_the_numpy_ones(mesh):
+    from heatcore.domains.intrinsic import halfedge_twins
+    from heatcore.domains.parts import vertex_components
+
+    n = mesh.V.shape[0]
+    count, part = vertex_components(mesh.F, n)
+    got_count, got_part = build_kernels.vertex_components(mesh.F, n)
+    assert count == got_count
+    np.testing.assert_array_equal(part, got_part)
+    pairs = unique_edges(mesh.F, with_pairs=True)[2]
+    for oriented in (True, False):
+        np.testing.assert_array_equal(halfedge_twins(mesh.F, pairs=pairs, oriented=oriented),
+                                      build_kernels.twins_of_pairs(mesh.F, pairs, oriented))
+
+
+def test_components_of_edges_and_soups():
+    """Elements of two corners and of four; repeated and lone vertices."""
+    rng = np.random.default_rng(5)
+    from heatcore.domains.parts import vertex_components
+
+    for k in (2, 3, 4):
+        E = rng.integers(0, 300, size=(120, k))
+        expected = vertex_components(E, 310)
+        got = build_kernels.vertex_components(E, 310)
+        assert expected[0] == got[0]
+        np.testing.assert_array_equal(expected[1], got[1])

@@ -1,4 +1,4 @@
-"""Compiled kernels of a large triangle mesh's build: its edge table, Delaunay tests and edge flips (numba).
+"""Compiled kernels of a large mesh's build: its edge table, connected parts, twins, Delaunay tests and flips (numba).
 
 On a 1M-vertex mesh the numpy build sorts 6M face sides and computes every
 corner's cotangent in 48 MB temporaries; these loops make the same arrays
@@ -46,6 +46,43 @@ def edge_table(F):
     n = int(F.max()) + 1 if F.size else 1
     edges, side_edge, pairs = _edge_table(F, n)
     return edges, side_edge.reshape(F.shape), pairs
+
+
+def vertex_components(elements, n):
+    """:func:`heatcore.domains.parts.vertex_components` without a graph: the same count and parts, from a
+    union-find over the elements' corners (each part keeps its smallest vertex as its root, so the parts are
+    numbered by their smallest vertex, as there).
+
+    Parameters
+    ----------
+    elements : (m, k) int array
+    n : int
+
+    Returns
+    -------
+    count : int
+    part : (n,) int64 array
+
+    Examples
+    --------
+    >>> count, part = vertex_components(np.array([[3, 1, 2]]), 5)
+    >>> count, part.tolist()
+    (3, [0, 1, 1, 1, 2])
+    """
+    count, part = _components(np.ascontiguousarray(elements, dtype=np.int64), n)
+    return int(count), part
+
+
+def twins_of_pairs(F, pairs, oriented=True):
+    """:func:`heatcore.domains.intrinsic.halfedge_twins` from the pairs of sides: the same twins, in one pass.
+
+    Examples
+    --------
+    >>> twins_of_pairs(np.array([[0, 1, 2], [0, 2, 3]]), np.array([[1, 5]])).tolist()
+    [-1, 5, -1, -1, -1, 1]
+    """
+    F = np.ascontiguousarray(F, dtype=np.int64)
+    return _twins_of_pairs(F, np.ascontiguousarray(pairs, dtype=np.int64), oriented)
 
 
 def cotangent_sums(lengths, h, t):
@@ -150,6 +187,56 @@ def _sort_by_high(side, high, lo, hi):  # pragma: no cover - compiled
             side[i], high[i] = side[i - 1], high[i - 1]
             i -= 1
         side[i], high[i] = s, value
+
+
+@compiled
+def _root(parent, v):  # pragma: no cover - compiled
+    """The root of ``v``'s tree, halving the path on the way."""
+    while parent[v] != v:
+        parent[v] = parent[parent[v]]
+        v = parent[v]
+    return v
+
+
+@compiled
+def _components(E, n):  # pragma: no cover - compiled
+    """:func:`vertex_components`: union by the smaller root, then parts numbered in the order of their roots."""
+    parent = np.arange(n)
+    for e in range(E.shape[0]):
+        a = _root(parent, E[e, 0])
+        for c in range(1, E.shape[1]):
+            b = _root(parent, E[e, c])
+            if b < a:
+                a, b = b, a
+            parent[b] = a
+    part = np.empty(n, dtype=np.int64)
+    count = 0
+    for v in range(n):
+        root = _root(parent, v)
+        if root == v:
+            part[v] = count
+            count += 1
+        else:
+            part[v] = part[root]  # a root is its part's smallest vertex: numbered already
+    return count, part
+
+
+@compiled
+def _twins_of_pairs(F, pairs, oriented):  # pragma: no cover - compiled
+    """:func:`twins_of_pairs`: a pair are twins if they run in opposite directions (``oriented``) or join two
+    vertices (not a loop)."""
+    twin = np.full(F.size, -1, dtype=np.int64)
+    for p in range(pairs.shape[0]):
+        a, b = pairs[p, 0], pairs[p, 1]
+        tail_a, head_a = F[a // 3, (a + 1) % 3], F[a // 3, (a + 2) % 3]
+        tail_b, head_b = F[b // 3, (b + 1) % 3], F[b // 3, (b + 2) % 3]
+        if oriented:
+            paired = (tail_a < head_a) != (tail_b < head_b)
+        else:
+            paired = tail_a != head_a
+        if paired:
+            twin[a], twin[b] = b, a
+    return twin
 
 
 @compiled

@@ -162,7 +162,11 @@ def triangle_slack(lengths):
     >>> triangle_slack(np.array([[1.0, 1.0, 1.5]])).tolist()
     [[1.5, 1.5, 0.5]]
     """
-    return lengths[:, NEXT] + lengths[:, PREV] - lengths
+    slack = np.empty_like(lengths)
+    for c in range(3):  # a column at a time: no (m, 3) gathers, the same numbers
+        np.add(lengths[:, NEXT[c]], lengths[:, PREV[c]], out=slack[:, c])
+        slack[:, c] -= lengths[:, c]
+    return slack
 
 
 @dataclass
@@ -369,6 +373,8 @@ def halfedge_twins(F, side_edge=None, oriented=True, pairs=None):
     """
     if pairs is None:
         a, b = _pairs(F, side_edge)
+    elif (kernels := build_kernels(F.shape[0])) is not None:  # a large mesh: the same twins, compiled
+        return kernels.twins_of_pairs(F, pairs, oriented)
     else:
         a, b = pairs[:, 0], pairs[:, 1]
     tail = F[:, NEXT].ravel()

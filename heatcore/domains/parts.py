@@ -26,6 +26,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import breadth_first_order, connected_components, dijkstra
 
+from ..compiled import build_kernels
+
 #: Parts whose largest absolute coordinate lies within ``2**-UNIT_RANGE`` ..
 #: ``2**UNIT_RANGE`` keep the input's unit: their squared lengths, areas and
 #: heat are far from underflow and overflow.
@@ -106,6 +108,8 @@ def vertex_components(elements, n, graph=None):
     >>> vertex_components(np.array([[0, 1, 2]]), 4)[0]
     2
     """
+    if graph is None and (kernels := build_kernels(elements.shape[0])) is not None:  # large: compiled, the same
+        return kernels.vertex_components(elements, n)
     if graph is None:  # vertices, then one node per element joined to its corners: a CSR graph with no sorting
         m, k = elements.shape
         indptr = np.concatenate([np.zeros(n + 1, dtype=np.int64), np.arange(k, k * m + 1, k)])
