@@ -1,16 +1,17 @@
 """numba, the ``fast`` extra: the one place that compiles heatcore's loops, and decides when a build uses them.
 
-numba is imported on first need (about 0.25 s), by :func:`available` or by
+numba is imported on first need (0.12-0.25 s), by :func:`available` or by
 importing a module of compiled loops (:mod:`heatcore.fast_marching`,
 :mod:`heatcore.domains.build_kernels`), and each compiled loop is loaded
-from numba's disk cache on its first call (about 0.05 s). Without numba,
+from numba's disk cache on its first call (the first one in a process about
+0.2 s, later ones a few milliseconds). Without numba,
 :func:`available` is False and :func:`compiled` leaves a function as it is
 (plain Python; the callers take their numpy path instead).
 
 Examples
 --------
->>> build_kernels(1_000) is None  # a small mesh's build: numpy (importing numba costs more than it saves)
-True
+>>> use_build_kernels(1_000)  # a small mesh's build: numpy (importing numba costs more than it saves)
+False
 """
 
 from .linalg.libraries import optional
@@ -34,19 +35,31 @@ def available():
 
 def compiled(function):
     """``function`` compiled by numba on its first call (cached on disk next to its module where that is
-    writable), or as it is without numba."""
+    writable), or as it is without numba.
+
+    Examples
+    --------
+    A module-level function (numba caches those only), as in :mod:`heatcore.fast_marching`::
+
+        @compiled
+        def _march_loop(start, rows, corners, layout, d, is_pinned, pinned, tol): ...
+
+    >>> compiled.__name__
+    'compiled'
+    """
     numba = optional("numba")
     return function if numba is None else numba.njit(cache=True, nogil=True, error_model="numpy")(function)
 
 
-def build_kernels(n_faces):
-    """:mod:`heatcore.domains.build_kernels` where a build of ``n_faces`` faces uses it, else None.
+def use_build_kernels(n_faces):
+    """Whether a build of ``n_faces`` faces takes :mod:`heatcore.domains.build_kernels` (the caller imports it).
 
     It does from :data:`LARGE_BUILD_FACES` faces on, where numba is installed;
     its results are bit for bit the numpy path's.
-    """
-    if n_faces < LARGE_BUILD_FACES or not available():
-        return None
-    from .domains import build_kernels as kernels
 
-    return kernels
+    Examples
+    --------
+    >>> use_build_kernels(LARGE_BUILD_FACES) == available()
+    True
+    """
+    return n_faces >= LARGE_BUILD_FACES and available()

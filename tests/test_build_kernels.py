@@ -25,10 +25,10 @@ def test_numba_is_there():
 
 
 def test_only_large_builds_take_the_kernels(monkeypatch):
-    assert compiled.build_kernels(compiled.LARGE_BUILD_FACES - 1) is None
-    assert compiled.build_kernels(compiled.LARGE_BUILD_FACES) is build_kernels
+    assert not compiled.use_build_kernels(compiled.LARGE_BUILD_FACES - 1)
+    assert compiled.use_build_kernels(compiled.LARGE_BUILD_FACES)
     monkeypatch.setattr(compiled, "available", lambda: False)  # without numba: numpy at any size
-    assert compiled.build_kernels(10**9) is None
+    assert not compiled.use_build_kernels(10**9)
 
 
 def both_paths(monkeypatch, build):
@@ -119,7 +119,7 @@ def test_flip_of_two_faces_sharing_three_edges(monkeypatch):
     def pillow():
         tri = IntrinsicTriangulation(F.copy(), face_edge_lengths(V, F), np.array([3, 5, 4, 0, 2, 1]))
         h0, h1 = np.array([0]), np.array([3])
-        if compiled.build_kernels(2) is None:
+        if not compiled.use_build_kernels(2):
             tri._flip(h0, h1, np.full(6, -1))
         else:
             build_kernels.flip_pairs(tri.faces, tri.lengths, tri.twin, h0, h1)

@@ -41,6 +41,12 @@ def edge_table(F):
     edges : (k, 2) int64 array
     side_edge : (m, 3) int64 array
     pairs : (p, 2) int64 array
+
+    Examples
+    --------
+    >>> edges, side_edge, pairs = edge_table(np.array([[0, 1, 2], [0, 2, 3]]))
+    >>> edges.tolist(), side_edge.tolist(), pairs.tolist()
+    ([[0, 1], [0, 2], [0, 3], [1, 2], [2, 3]], [[3, 1, 0], [4, 2, 1]], [[1, 5]])
     """
     F = np.ascontiguousarray(F, dtype=np.int64)
     n = int(F.max()) + 1 if F.size else 1
@@ -119,12 +125,30 @@ def flip_pairs(faces, lengths, twin, h0, h1):
     lengths : (m, 3) float array, C-ordered
     twin : (3 m,) int64 array
     h0, h1 : (k,) int arrays
+
+    Examples
+    --------
+    Two flat triangles on a long shared edge 0-1 (half-edges 2 and 5), whose opposite angles are obtuse:
+
+    >>> faces, twin = np.array([[0, 1, 2], [1, 0, 3]]), np.array([-1, -1, 5, -1, -1, 2])
+    >>> lengths = np.full((2, 3), np.hypot(1.0, 0.2))
+    >>> lengths[:, 2] = 2.0
+    >>> flip_pairs(faces, lengths, twin, [2], [5])
+    >>> faces.tolist(), lengths[0].round(3).tolist()  # the new edge 2-3 is 0.4 long
+    ([[3, 1, 2], [2, 0, 3]], [1.02, 0.4, 1.02])
     """
     _flip_pairs(faces, lengths, twin, np.asarray(h0, dtype=np.int64), np.asarray(h1, dtype=np.int64))
 
 
 def fits(faces, lengths, twin):
-    """Whether the arrays are as the kernels read them (int64 and float64, C-ordered)."""
+    """Whether the arrays are as the kernels read them (int64 and float64, C-ordered).
+
+    Examples
+    --------
+    >>> lengths, twin = np.ones((1, 3)), np.full(3, -1)
+    >>> fits(np.zeros((1, 3), np.int64), lengths, twin), fits(np.zeros((1, 3), np.int32), lengths, twin)
+    (True, False)
+    """
     return (faces.dtype == np.int64 and twin.dtype == np.int64 and lengths.dtype == np.float64
             and faces.flags.c_contiguous and lengths.flags.c_contiguous)
 

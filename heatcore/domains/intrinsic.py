@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..compiled import build_kernels
+from ..compiled import use_build_kernels
 from .parts import part_extremes, part_means, row_reduce
 from .refine import unique_edges
 
@@ -239,9 +239,11 @@ class IntrinsicTriangulation:
         """
         total = 0
         tol = 1e-12
-        kernels = build_kernels(self.faces.shape[0])  # a large mesh: compiled tests and flips, the same numbers
-        if kernels is not None and not kernels.fits(self.faces, self.lengths, self.twin):
-            kernels = None
+        kernels = None
+        if use_build_kernels(self.faces.shape[0]):  # a large mesh: compiled tests and flips, the same numbers
+            from . import build_kernels
+
+            kernels = build_kernels if build_kernels.fits(self.faces, self.lengths, self.twin) else None
         renamed = np.full(self.twin.size, -1, dtype=np.int64) if kernels is None else None  # scratch for _flip
         allowed = None if flippable is None else np.asarray(flippable, bool)
         candidates = np.flatnonzero(self.twin > np.arange(self.twin.size))
@@ -373,8 +375,10 @@ def halfedge_twins(F, side_edge=None, oriented=True, pairs=None):
     """
     if pairs is None:
         a, b = _pairs(F, side_edge)
-    elif (kernels := build_kernels(F.shape[0])) is not None:  # a large mesh: the same twins, compiled
-        return kernels.twins_of_pairs(F, pairs, oriented)
+    elif use_build_kernels(F.shape[0]):  # a large mesh: the same twins, compiled
+        from .build_kernels import twins_of_pairs
+
+        return twins_of_pairs(F, pairs, oriented)
     else:
         a, b = pairs[:, 0], pairs[:, 1]
     tail = F[:, NEXT].ravel()

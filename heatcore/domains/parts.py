@@ -26,7 +26,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import breadth_first_order, connected_components, dijkstra
 
-from ..compiled import build_kernels
+from ..compiled import use_build_kernels
 
 #: Parts whose largest absolute coordinate lies within ``2**-UNIT_RANGE`` ..
 #: ``2**UNIT_RANGE`` keep the input's unit: their squared lengths, areas and
@@ -108,8 +108,10 @@ def vertex_components(elements, n, graph=None):
     >>> vertex_components(np.array([[0, 1, 2]]), 4)[0]
     2
     """
-    if graph is None and (kernels := build_kernels(elements.shape[0])) is not None:  # large: compiled, the same
-        return kernels.vertex_components(elements, n)
+    if graph is None and use_build_kernels(elements.shape[0]):  # a large mesh: compiled, the same parts
+        from .build_kernels import vertex_components as compiled_components
+
+        return compiled_components(elements, n)
     if graph is None:  # vertices, then one node per element joined to its corners: a CSR graph with no sorting
         m, k = elements.shape
         indptr = np.concatenate([np.zeros(n + 1, dtype=np.int64), np.arange(k, k * m + 1, k)])

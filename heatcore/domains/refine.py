@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..compiled import build_kernels
+from ..compiled import use_build_kernels
 
 #: ``refine="auto"`` subdivides meshes with fewer vertices than this. On
 #: coarser meshes one level of midpoint subdivision is cheap and lowers the
@@ -229,9 +229,10 @@ def unique_edges(F, with_pairs=False):
     >>> unique_edges(np.array([[0, 1, 2], [0, 2, 3]]), with_pairs=True)[2].tolist()   # edge 0-2
     [[1, 5]]
     """
-    kernels = build_kernels(F.shape[0])
-    if kernels is not None:  # a large mesh: the same arrays from compiled passes
-        edges, side_edge, pairs = kernels.edge_table(F)
+    if use_build_kernels(F.shape[0]):  # a large mesh: the same arrays from compiled passes
+        from .build_kernels import edge_table
+
+        edges, side_edge, pairs = edge_table(F)
         return (edges, side_edge, pairs) if with_pairs else (edges, side_edge)
     a = F[:, [1, 2, 0]].ravel()
     b = F[:, [2, 0, 1]].ravel()
