@@ -34,7 +34,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .domains.parts import edge_graph, first_of_each, hop_diameters, vertex_components
+from .domains.parts import edge_graph, first_of_each, hop_diameters, hop_sweep, vertex_components
 from .domains.sources import SourcePins, source_keywords
 from .errors import InvalidSourceError, UnsupportedDomainError
 from .high_accuracy import high_accuracy_distance, high_accuracy_needs_heat, resolve_accuracy
@@ -198,10 +198,11 @@ class HeatSolver:
         parts = ops.parts if ops.parts is not None else vertex_components(ops.elements, n, graph)
         self.n_components, self.component = parts
         # The first sweep's bounds are enough where they need no larger m (underflow_safe_m grows with the hops).
-        hops = hop_diameters(graph, self.component, self.n_components, bounds=True)
+        first_sweep = hop_sweep(graph, self.component, self.n_components)
+        hops = hop_diameters(graph, self.component, self.n_components, bounds=True, first_sweep=first_sweep)
         self._hops = None
-        if (underflow_safe_m(hops) > self.m).any():
-            hops = self._hops = hop_diameters(graph, self.component, self.n_components)
+        if (underflow_safe_m(hops) > self.m).any():  # the second sweep
+            hops = self._hops = hop_diameters(graph, self.component, self.n_components, first_sweep=first_sweep)
         del graph
         self.part_m = np.maximum(self.m, underflow_safe_m(hops))
         self.m_effective = float(self.part_m.max())

@@ -245,6 +245,26 @@ def test_breadth_first_hops_equal_dijkstra(seed):
     expected = dijkstra(graph, directed=True, indices=root, unweighted=True, min_only=True)
     np.testing.assert_array_equal(_hops_from(graph, root), expected)
     assert np.isinf(expected).any() and expected[np.isfinite(expected)].max() > 3
+    # A few roots, some in one part: a search from each, the nearest kept; as many as FEW_ROOTS allows
+    for roots in (edges[:3, 0], edges[:16, 1]):
+        expected = dijkstra(graph, directed=True, indices=roots, unweighted=True, min_only=True)
+        np.testing.assert_array_equal(_hops_from(graph, roots), expected)
+
+
+def test_the_estimate_reuses_the_bounds_sweep(monkeypatch):
+    """A solver whose bounds ask for the double sweep makes two searches, not three (the first is the bounds')."""
+    from heatcore.domains import parts
+
+    searches = []
+    real = parts._search_depths
+    monkeypatch.setattr(parts, "_search_depths", lambda graph, root: searches.append(root) or real(graph, root))
+    x = np.linspace(0.0, 30.0, 3001)  # a strip 3,000 hops long: its m is raised, which takes the second sweep
+    V = np.r_[np.c_[x, np.zeros_like(x), np.zeros_like(x)], np.c_[x, np.full_like(x, 0.001), np.zeros_like(x)]]
+    i = np.arange(3000)
+    F = np.r_[np.c_[i, i + 1, i + 3001], np.c_[i + 1, i + 3002, i + 3001]]
+    solver = hc.HeatSolver(hc.TriangleMesh(V, F, refine=0))
+    assert solver.m_effective > 10 and len(searches) == 2
+    assert 3000 <= solver.hop_diameter <= 3001  # the strip is 3,000 edges long
 
 
 def test_hop_diameter_is_the_surfaces_not_the_corner_order():
