@@ -65,7 +65,7 @@ def check_mesh_file(path, noun="mesh file"):
     return scan_mesh_file(path, noun).text
 
 
-def scan_mesh_file(path, noun="mesh file"):
+def scan_mesh_file(path, noun="mesh file", read=False):
     """Check a mesh file as :func:`check_mesh_file` does; also an OBJ or OFF file's polygons.
 
     Parameters
@@ -73,6 +73,8 @@ def scan_mesh_file(path, noun="mesh file"):
     path : str or path-like
     noun : str, default "mesh file"
         What the file is, for the message.
+    read : bool, default False
+        Also read a plain OBJ file's vertices and faces (:func:`~heatcore.io.objcheck.scan_obj`).
 
     Returns
     -------
@@ -82,7 +84,8 @@ def scan_mesh_file(path, noun="mesh file"):
         face of more than 3 corners (None otherwise); ``materials``, whether
         an OBJ file has ``usemtl`` lines; ``vertices``, an OFF file's
         vertices where it has polygons (trimesh fails on an OFF file of
-        triangles and larger polygons mixed).
+        triangles and larger polygons mixed), and a plain OBJ file's with
+        ``read`` (``polygons`` then lists every face).
 
     Raises
     ------
@@ -102,7 +105,7 @@ def scan_mesh_file(path, noun="mesh file"):
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix == ".obj":
-        return scan_obj(path, noun)
+        return scan_obj(path, noun, read=read)
     if suffix == ".ply":
         check_ply_body(path, noun=noun)
     elif suffix == ".off":

@@ -135,7 +135,7 @@ def read_mesh(path):
     suffix = path.suffix.lower()
     try:
         if suffix in TRIMESH_SUFFIXES:
-            return _read_trimesh(path, scan_mesh_file(path))
+            return _read_trimesh(path, scan_mesh_file(path, read=True))
         if suffix == ".ply":
             return _read_ply(path)
         return _read_meshio(path)

@@ -107,7 +107,7 @@ def check_obj(path, noun="mesh file"):
     return scan_obj(path, noun).text
 
 
-def scan_obj(path, noun="mesh file"):
+def scan_obj(path, noun="mesh file", read=False):
     """Check an OBJ file as :func:`check_obj` does; also its polygons, where it has any.
 
     Parameters
@@ -115,6 +115,12 @@ def scan_obj(path, noun="mesh file"):
     path : str or path-like
     noun : str, default "mesh file"
         What the file is, for the message.
+    read : bool, default False
+        Also read the file where its vertex lines are plain (``v`` and at
+        least 3 numbers, no line continued with ``\\``): the scan then
+        returns the vertices and every face's corners, and no library needs
+        to parse it (a 1M-vertex file: 1.8 s against 5.6 s). The same
+        arrays as trimesh's, which reads the others.
 
     Returns
     -------
@@ -134,6 +140,8 @@ def scan_obj(path, noun="mesh file"):
     >>> offsets, corners = scan_obj(path).polygons
     >>> offsets.tolist(), corners.tolist()
     ([0, 4, 7], [0, 1, 2, 3, 0, 1, 2])
+    >>> scan_obj(path, read=True).vertices.tolist()
+    [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]]
     >>> tmp.cleanup()
     """
     path = Path(path)
@@ -153,7 +161,7 @@ def scan_obj(path, noun="mesh file"):
     lines = np.flatnonzero(is_f)
     before = np.cumsum(is_v)[lines]  # vertices read before each face line
     n_vertices = int(is_v.sum())
-    text, corners, first = _face_text(data, starts[lines], ends[lines])
+    text, corners, first = _keyword_lines(data, starts[lines], ends[lines])
     number = np.repeat(lines + 1, corners)
     few = corners < 3
     if few.any():
@@ -163,7 +171,7 @@ def scan_obj(path, noun="mesh file"):
     t = np.frombuffer(text, dtype=np.uint8)
     odd = (t > 57) & (t != ord("f"))
     odd |= (t > 32) & (t < 47)
-    if not odd.any() and not (t[first] == ord("0")).any():  # digits, slashes and spaces only: positive
+    if not read and not odd.any() and not (t[first] == ord("0")).any():  # digits, slashes, spaces: positive
         past = _leading_integers(t, first, len(str(n_vertices))) > n_vertices  # whole numbers; their range is left
         if past.any():
             k = int(np.flatnonzero(past)[0])
@@ -186,15 +194,37 @@ def scan_obj(path, noun="mesh file"):
         if bad.any():
             k = int(np.flatnonzero(bad)[0])
             raise InvalidMeshError(f"{where}: line {number[k]}: {why(k)}")
+    vertices = _plain_vertices(data, starts[is_v], ends[is_v]) if read else None
     polygons = None
-    if corners.max() > 3:
+    if corners.max() > 3 or vertices is not None:
         vertex = np.where(index < 0, relative + index, index - 1).astype(np.int64)
         polygons = (np.r_[0, np.cumsum(corners)].astype(np.int64), vertex)
+    if vertices is not None:  # read: no library needs the text
+        return FileScan(None, polygons, materials, vertices)
+    if corners.max() == 3:
+        polygons = None
     return FileScan(_absolute(data) if (index < 0).any() else None, polygons, materials)
 
 
-def _face_text(data, starts, ends):
-    """The face lines' text, each line's number of corners, and where each corner starts in the text."""
+def _plain_vertices(data, starts, ends):
+    """The ``(n, 3)`` positions of the vertex lines ``data[starts[i]:ends[i]]`` (their first three numbers), or
+    None where a line is not plain (fewer than 3 numbers, a token that is not one, a line continued with ``\\``)."""
+    if b"\\" in data:
+        return None
+    text, tokens, _ = _keyword_lines(data, starts, ends)
+    if tokens.size == 0 or tokens.min() < 3:
+        return None if tokens.size else np.zeros((0, 3))
+    try:
+        values = numbers(text.replace(b"v", b" "), int(tokens.sum()), "vertex lines")
+    except InvalidMeshError:  # a token that is not a number: trimesh says what it makes of it
+        return None
+    first = np.r_[0, np.cumsum(tokens)[:-1]]
+    return values[first[:, None] + np.arange(3)]
+
+
+def _keyword_lines(data, starts, ends):
+    """The text of the lines ``data[starts[i]:ends[i]]`` (face or vertex lines), each line's number of tokens
+    after its keyword (a face's corners), and where each of those tokens starts in the text."""
     breaks = np.flatnonzero(starts[1:] != ends[:-1] + 1)  # runs of consecutive face lines: one slice each
     run_starts, run_ends = starts[np.r_[0, breaks + 1]], ends[np.r_[breaks, starts.size - 1]]
     text = b"\n".join([data[s:e] for s, e in zip(run_starts.tolist(), run_ends.tolist())])
