@@ -17,8 +17,9 @@ False
 from .linalg.libraries import optional
 
 #: Faces from which a triangle mesh's build uses :mod:`heatcore.domains.build_kernels` (where numba is installed).
-#: On a 1M-vertex sphere (2M faces) they take 0.6-1.5 s off the build; importing numba and loading them costs
-#: about 0.4 s in a fresh process, which a build of fewer faces does not win back.
+#: On a 1M-vertex sphere (2M faces) a fresh process's build took 2.2 s with them against 4.0 s (much of it the
+#: page faults of numpy's 48 MB temporaries; after other large allocations numpy's is about as fast: 1.6 s);
+#: importing numba and loading them costs about 0.3 s in a fresh process, which fewer faces do not win back.
 LARGE_BUILD_FACES = 400_000
 
 
