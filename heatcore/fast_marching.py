@@ -37,6 +37,7 @@ Examples
 import numpy as np
 
 from .compiled import available, compiled  # noqa: F401 (available: the callers ask fast_marching.available())
+from .domains.build_kernels import sort_by_key
 
 
 def march(readers, d, pinned, tol):
@@ -248,16 +249,7 @@ def _kept_in_order(f, n):  # pragma: no cover - compiled
     kept = np.ones(f.shape[0], dtype=np.bool_)
     for v in range(n):
         lo, hi = start[v], start[v + 1]
-        if hi - lo > 16:  # a fan: a stable sort (short ones: insertion, stable too)
-            by = np.argsort(key[lo:hi], kind="mergesort")
-            order[lo:hi], key[lo:hi] = order[lo:hi][by], key[lo:hi][by]
-        else:
-            for j in range(lo + 1, hi):
-                t, value, i = order[j], key[j], j
-                while i > lo and key[i - 1] > value:
-                    order[i], key[i] = order[i - 1], key[i - 1]
-                    i -= 1
-                order[i], key[i] = t, value
+        sort_by_key(order, key, lo, hi)  # stable
         for j in range(lo + 1, hi):
             kept[j] = key[j] != key[j - 1]
     return order[kept]

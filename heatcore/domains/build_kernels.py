@@ -174,7 +174,7 @@ def _edge_table(F, n):  # pragma: no cover - compiled
         place[low] += 1
     n_edges = 0
     for v in range(n):
-        _sort_by_high(side, high, start[v], start[v + 1])
+        sort_by_key(side, high, start[v], start[v + 1])
         for j in range(start[v], start[v + 1]):
             n_edges += j == start[v] or high[j] != high[j - 1]
     edges = np.empty((n_edges, 2), dtype=np.int64)
@@ -199,18 +199,27 @@ def _edge_table(F, n):  # pragma: no cover - compiled
 
 
 @compiled
-def _sort_by_high(side, high, lo, hi):  # pragma: no cover - compiled
-    """Sort ``side[lo:hi]`` and ``high[lo:hi]`` by ``high``, stably (a fan of many: a merge sort)."""
+def sort_by_key(items, keys, lo, hi):  # pragma: no cover - compiled
+    """Sort ``items[lo:hi]`` and ``keys[lo:hi]`` by ``keys``, stably, in place: an insertion sort, a merge sort
+    past 16 (a vertex's sides or triangles, in compiled loops).
+
+    Examples
+    --------
+    >>> items, keys = np.array([0, 1, 2, 3]), np.array([9, 7, 8, 7])
+    >>> sort_by_key(items, keys, 0, 4)
+    >>> items.tolist(), keys.tolist()
+    ([1, 3, 2, 0], [7, 7, 8, 9])
+    """
     if hi - lo > 16:
-        by = np.argsort(high[lo:hi], kind="mergesort")
-        side[lo:hi], high[lo:hi] = side[lo:hi][by], high[lo:hi][by]
+        by = np.argsort(keys[lo:hi], kind="mergesort")
+        items[lo:hi], keys[lo:hi] = items[lo:hi][by], keys[lo:hi][by]
         return
     for j in range(lo + 1, hi):
-        s, value, i = side[j], high[j], j
-        while i > lo and high[i - 1] > value:
-            side[i], high[i] = side[i - 1], high[i - 1]
+        item, value, i = items[j], keys[j], j
+        while i > lo and keys[i - 1] > value:
+            items[i], keys[i] = items[i - 1], keys[i - 1]
             i -= 1
-        side[i], high[i] = s, value
+        items[i], keys[i] = item, value
 
 
 @compiled
