@@ -146,7 +146,7 @@ class HeatSolver:
             self._waiting = progress
         else:
             self._prepare(progress)
-        progress(1.0, "heat solver ready")
+        progress(1.0, "ready to march (no heat to solve)" if "_waiting" in vars(self) else "heat solver ready")
 
     #: The attributes :meth:`_prepare` sets, which wait for their first use where the solver needs no heat.
     _PREPARED = frozenset(("ops", "has_boundary", "boundary", "factors", "part_m", "m_effective", "t", "_hops",

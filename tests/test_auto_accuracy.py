@@ -76,6 +76,18 @@ def test_a_march_solver_prepares_its_heat_on_first_need():
         solver.nothing
 
 
+def test_a_march_solver_says_it_marches():
+    """Its progress ends on the march, not on a heat solver it has not made (the command line shows it)."""
+    V, F = load_shared_mesh("spot")
+    mesh = hc.TriangleMesh(V, F)
+    said = []
+    hc.HeatSolver(mesh, accuracy="high", progress=lambda fraction, message: said.append(message))
+    assert said[-1] == ("ready to march (no heat to solve)" if fast_marching.available() else "heat solver ready")
+    said.clear()
+    hc.HeatSolver(mesh, progress=lambda fraction, message: said.append(message))
+    assert said[-1] == "heat solver ready"
+
+
 @pytest.mark.skipif(not fast_marching.available(), reason="numba is missing: pip install -e '.[fast]'")
 def test_auto_is_the_march_for_one_query_on_a_large_mesh(large):
     V, F, source, exact = large
