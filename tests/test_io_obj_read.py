@@ -76,3 +76,12 @@ def test_bad_indices_are_still_reported(tmp_path):
     path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n")
     with pytest.raises(hc.InvalidMeshError, match="line 4: a face references vertex 4 but the file has 3 vertices"):
         hc.io.read_mesh(path)
+
+
+def test_tab_separated_lines_are_read(tmp_path):
+    """Tabs separate tokens as spaces do (trimesh found no faces in this file: ``NoFacesError`` before)."""
+    path = tmp_path / "tabs.obj"
+    path.write_text("v\t0\t0\t0\nv\t1 0  0\nv 0 1 0   \nf\t1\t2\t3\n")
+    mesh = hc.io.read_mesh(path)
+    assert mesh.vertices.tolist() == [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+    assert mesh.faces.tolist() == [[0, 1, 2]]
