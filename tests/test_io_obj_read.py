@@ -63,9 +63,10 @@ def test_shared_meshes_read_as_before(name, monkeypatch):
     "v 0 0 0 # a comment on a vertex line\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
     "v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
     "v 0 0 \\\n0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    "v 0 0 0v\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
 ])
 def test_other_files_go_to_trimesh(tmp_path, text):
-    """A comment, a vertex of two numbers, a continued line: trimesh reads them, as before."""
+    """A comment, a vertex of two numbers, a continued line, a letter in a number: trimesh reads them, as before."""
     path = tmp_path / "odd.obj"
     path.write_text(text)
     assert objcheck.scan_obj(path, read=True).vertices is None
