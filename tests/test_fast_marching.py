@@ -112,3 +112,18 @@ def test_the_compiled_corner_table_keeps_corner_layouts_odd_triangles():
         assert same_readers(fast_marching.Readers.of_triangles(big + 1, faces, lengths), expected)
     # kept once each: (0 1 2), (1 3 2), (3 3 4), (4 5 6) and (0 big 1) turned: 5 triangles, 3 corners each
     assert fast_marching.Readers.of_triangles(big + 1, [F], [L]).layout.shape == (15, 5)
+
+
+@pytest.mark.parametrize("pieces", [1, 2, 3])
+def test_corner_table_of_several_triangle_sets_is_the_vectorized_one(pieces):
+    """``Readers.of_triangles`` reads the first set in place and the others stacked: ``corner_layout``'s table of
+    them all (random triangles on few vertices: repeated corners, repeated triangles, every order)."""
+    from heatcore.eikonal import corner_layout
+
+    rng = np.random.default_rng(pieces)
+    faces = [rng.integers(0, 30, size=(rng.integers(1, 60), 3)) for _ in range(pieces)]
+    lengths = [rng.uniform(0.5, 1.5, size=f.shape) for f in faces]
+    compiled, vectorized = fast_marching.Readers.of_triangles(30, faces, lengths), fast_marching.Readers(
+        30, *corner_layout(faces, lengths))
+    for name in ("start", "rows", "corners", "layout"):
+        np.testing.assert_array_equal(getattr(compiled, name), getattr(vectorized, name))
