@@ -5,9 +5,9 @@ built in a background thread (:class:`~.background.BackgroundBuild`) while a
 modal timer shows its stages (:class:`~.display.ProgressDisplay`): the header
 of the area it was started from says what runs and how far it is, the status
 bar that Esc cancels, the window manager's progress indicator follows, the
-UI stays usable, and Esc cancels (nothing is written). On a mesh small
-enough to be refined, the distance on the unrefined mesh is drawn at once
-meanwhile, never written (:mod:`.preview`). The query and the writes then
+UI stays usable, and Esc cancels (nothing is written). Meanwhile a first
+answer on a cheaper mesh (a small mesh unrefined, a large one coarsened) is
+drawn, never written (:mod:`.preview`). The query and the writes then
 run on the main thread, as one undo step. A second click while a
 build runs is refused with a message. A cached solver, ``execute`` (scripts,
 *Adjust Last Operation*) and background Blender (``bpy.app.background``) run
@@ -27,10 +27,17 @@ from .api import compute_geodesic_distance
 from .background import CANCELLED, FAILED, RUNNING, BackgroundBuild, Busy
 from .display import ProgressDisplay
 from .legend import format_distance
-from .preview import PREVIEW_TITLE, Preview, wants_preview
+from .preview import Preview, PreviewWork, preview_title, wants_preview
 from .properties import GeodesicOptions
 from .redo import draw_run_options
-from .stages import BUILD_RANGE, build_solver, check_unchanged, finish_run, prepare_run
+from .stages import (
+    BUILD_RANGE,
+    build_solver,
+    check_unchanged,
+    find_object,
+    finish_run,
+    prepare_run,
+)
 from .targets import skipped_message, target_objects
 
 #: Errors reported as messages (anything else is a bug: it propagates, with its traceback).
@@ -100,8 +107,11 @@ class ModalRun:
 
     Attributes
     ----------
+    preview_work : PreviewWork or None
+        The first answer being computed (:meth:`start` with the object), until it is shown or the run ends.
     preview : Preview or None
-        The first answer drawn while the solver builds (:meth:`start` with the object), until the run ends.
+        The first answer drawn while the solver builds (at the first timer event after ``preview_work`` is
+        done), until the run ends.
     """
 
     def __init__(self, run, display, report):
@@ -112,19 +122,17 @@ class ModalRun:
         self.build = BackgroundBuild(lambda progress: build_solver(run, progress), label)
         self.finishing = False
         self.result = None  # the GeodesicResult once written
+        self.preview_work = None
         self.preview = None
 
     def start(self, obj=None):
         """Start the worker (raises :class:`~.background.Busy` while another build runs).
 
-        Given the run's object, a run that :func:`~.preview.wants_preview` first draws the distance on the
-        unrefined mesh over it (:class:`~.preview.Preview`), taken down when the run ends.
+        Given the run's object, a run that :func:`~.preview.wants_preview` also starts its preview
+        (:class:`~.preview.PreviewWork`), drawn over the object once computed, taken down when the run ends.
         """
         if obj is not None and wants_preview(self.run):
-            try:
-                self.preview = Preview.show(obj, self.run)
-            except heatcore.HeatcoreError:  # the build says what is wrong with the mesh or the sources
-                self.preview = None
+            self.preview_work = PreviewWork(self.run)
         try:
             self.build.start()
         except Busy:
@@ -133,8 +141,9 @@ class ModalRun:
         self.display.progress(*self.build.progress())
 
     def end(self):
-        """Take the display and the preview down (idempotent)."""
+        """Take the display and the preview down (idempotent); a preview still being computed is never shown."""
         self.display.end()
+        self.preview_work = None
         if self.preview is not None:
             self.preview.remove()
 
@@ -155,6 +164,7 @@ class ModalRun:
         state = self.build.poll()
         if state == RUNNING:
             self.display.progress(*self.build.progress())
+            self.show_preview()
             return {"PASS_THROUGH"}
         if state != CANCELLED and not self.finishing:
             self.finishing = True
@@ -175,6 +185,16 @@ class ModalRun:
         finally:
             self.end()
         return report_result(context, result, self.report, obj, self.run.outputs, self.run.space)
+
+    def show_preview(self):
+        """Draw the preview once its work is done (a timer event while the build runs), over the object as it is."""
+        work = self.preview_work
+        if work is None or not work.done():
+            return
+        self.preview_work = None
+        obj = find_object(self.run) if work.distance is not None else None
+        if obj is not None:
+            self.preview = Preview.show(obj, self.run, work.distance, work.triangles)
 
     def cancel(self, message=None):
         """Cancel the build (the worker stops at its next stage), take the display down: ``{"CANCELLED"}``."""
@@ -277,7 +297,7 @@ class MESH_OT_heat_geodesic_distance(GeodesicOptions, bpy.types.Operator):
         except REPORTED_ERRORS as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
-        title = "Geodesic distance" + (PREVIEW_TITLE if wants_preview(run) else "")
+        title = "Geodesic distance" + preview_title(run)
         self._modal = ModalRun(run, ProgressDisplay(context, title), self.report)
         try:
             self._modal.start(targets[0])

@@ -1,73 +1,157 @@
-"""A first answer drawn at once while a small mesh's solver builds: the distance on the mesh unrefined.
+"""A first answer drawn while the button's solver builds: the distance on a cheaper mesh, never written.
 
-heatcore refines every part of fewer than ``AUTO_REFINE_MIN_VERTICES``
-(11,000) vertices (``refine="auto"``) before it solves on it: a click on a
-162-vertex icosphere builds a solver of 40,962 vertices, 0.24 s of the
-click's 0.27 s, and from the button the result appears one timer step after
-that. So the button's click on such a mesh first solves on the mesh as it is
-(``refine=0``: its own vertices, a few milliseconds) and draws that distance
-with the probe's overlay (:mod:`.overlay`), while the refined solver builds
-in the background. The overlay is drawn, never written: the result written
-when the build ends is the refined one, the same as without a preview, in
-the same one undo step; Esc, a failed build or a changed object take the
-overlay down with nothing written, as before.
+A button click whose solver is not cached waits for its build: 0.24 s of a
+162-vertex icosphere's 0.27 s (heatcore refines every part of fewer than
+``AUTO_REFINE_MIN_VERTICES`` vertices, to 40,962 here), about 0.3 s at 50k
+vertices, seconds at 500k. So the click first answers on a cheaper mesh, in
+a thread of its own beside the build (:class:`PreviewWork`), and draws that
+distance with the probe's overlay (:mod:`.overlay`) at the next timer event:
+
+- ``"unrefined"``: a mesh the build refines is solved on as it is
+  (``refine=0``: its own vertices, a few milliseconds);
+- ``"coarse"``: a mesh of ``COARSE_PREVIEW_FROM`` vertices or more is
+  clustered to about ``COARSE_PREVIEW_CLUSTERS`` vertices straight from its
+  faces (``heatcore.CoarsePreview.of_arrays``: no domain built
+  first; 0.06 s at 51k, about 0.4 s at 504k), each vertex showing its
+  cluster's distance.
+
+The overlay is drawn, never written: the result written when the build ends
+is the mesh's own, the same as without a preview, in the same one undo step;
+Esc, a failed build or a changed object take the overlay down with nothing
+written, as before.
 
 Examples
 --------
->>> preview = Preview.show(obj, run) if wants_preview(run) else None  # doctest: +SKIP
->>> preview.remove()                                                  # doctest: +SKIP
+>>> work = PreviewWork(run) if wants_preview(run) else None  # doctest: +SKIP
+>>> preview = Preview.show(obj, run, work.distance, work.triangles) if work.wait(1) else None  # doctest: +SKIP
+>>> preview.remove()                                                            # doctest: +SKIP
 """
 
 import dataclasses
 import importlib
+import logging
+import threading
 import warnings
 
 import numpy as np
 
 from ._heatcore import heatcore
 from .overlay import Overlay, OverlayData, color_table, field_colors
-from .probe_surface import DisplayedSurface
+from .probe_surface import DisplayedSurface, displayed_positions
 from .stages import build_solver
 
 #: ``heatcore.domains.refine.AUTO_REFINE_MIN_VERTICES``: meshes under it are refined by default, and previewed.
 AUTO_REFINE_MIN_VERTICES = importlib.import_module(heatcore.__name__ + ".domains.refine").AUTO_REFINE_MIN_VERTICES
-#: What the header adds while a preview is shown.
-PREVIEW_TITLE = " (preview on the unrefined mesh shown)"
+fan_triangulate = importlib.import_module(heatcore.__name__ + ".domains.polygon_shape").fan_triangulate
+#: From this many vertices a click's preview is a coarse one (a solver build there takes 0.3 s and more).
+COARSE_PREVIEW_FROM = 20_000
+#: About how many vertices a coarse preview clusters a mesh to (at most a tenth of the mesh's): 0.06 s at 51k
+#: vertices (5,000 clusters), 0.4 s at 504k; 1% off on a 51k torus and 0.8% on Suzanne at 504k (of the largest distance).
+COARSE_PREVIEW_CLUSTERS = 10_000
+#: What the header adds while each kind of preview is (about to be) shown.
+PREVIEW_TITLES = {"unrefined": " (preview on the unrefined mesh shown)", "coarse": " (coarse preview shown)"}
+
+log = logging.getLogger(__name__)
 
 
-def wants_preview(run):
-    """Whether a button click's ``run`` (:class:`~.stages.PreparedRun`) shows a preview while its solver builds.
+def preview_kind(run):
+    """The preview a button click's ``run`` (:class:`~.stages.PreparedRun`) shows while its solver builds, or None.
 
-    It does where the solver is to be built on a refined mesh (refinement on,
-    fewer than ``AUTO_REFINE_MIN_VERTICES`` vertices) from source vertices on
-    the object itself: not for selected faces or edges, a new object or a
-    point cloud.
+    ``"coarse"`` from ``COARSE_PREVIEW_FROM`` vertices, ``"unrefined"`` below
+    where the solver is to be built on a refined mesh (``refine="auto"`` under
+    ``AUTO_REFINE_MIN_VERTICES`` vertices, or refinement levels asked for);
+    only from source vertices on the object itself: not for selected faces or
+    edges, a new object or a point cloud.
 
     Examples
     --------
     >>> from types import SimpleNamespace as NS
     >>> run = NS(solver=None, new_object=False, points_only=False, kinds=None, sources=np.array([0]),
     ...          V=np.zeros((162, 3)), settings=NS(mesh=NS(refine="auto")))
-    >>> wants_preview(run), wants_preview(NS(**{**vars(run), "settings": NS(mesh=NS(refine=0))}))
-    (True, False)
+    >>> preview_kind(run), preview_kind(NS(**{**vars(run), "settings": NS(mesh=NS(refine=0))}))
+    ('unrefined', None)
+    >>> preview_kind(NS(**{**vars(run), "V": np.zeros((15_000, 3))})), preview_kind(NS(**{**vars(run), "V": np.zeros((50_000, 3))}))
+    (None, 'coarse')
     """
-    return bool(run.solver is None and not run.new_object and not run.points_only and not run.kinds
-                and run.sources.size and run.settings.mesh.refine != 0 and len(run.V) < AUTO_REFINE_MIN_VERTICES)
+    if run.solver is not None or run.new_object or run.points_only or run.kinds or not run.sources.size:
+        return None
+    n, refine = len(run.V), run.settings.mesh.refine
+    if n >= COARSE_PREVIEW_FROM:
+        return "coarse"
+    return "unrefined" if refine != 0 and (refine != "auto" or n < AUTO_REFINE_MIN_VERTICES) else None
+
+
+def wants_preview(run):
+    """Whether a button click's ``run`` shows a preview while its solver builds (:func:`preview_kind`)."""
+    return preview_kind(run) is not None
+
+
+def preview_title(run):
+    """What the header adds for ``run``'s preview ("" without one)."""
+    return PREVIEW_TITLES.get(preview_kind(run), "")
 
 
 def preview_distance(run):
-    """The distance from ``run``'s sources on its mesh unrefined (``refine=0``, ``accuracy="smooth"``), per vertex.
+    """The distance from ``run``'s sources, per vertex, for its :func:`preview_kind`, and the triangles to draw it on.
 
-    Built as :func:`~.stages.build_solver` builds the run's own solver, on a
-    copy of the run (the run is not changed); its warnings are left to that build.
+    ``"unrefined"``: built as :func:`~.stages.build_solver` builds the run's
+    own solver, on a copy of the run (``refine=0``, ``accuracy="smooth"``; the
+    run is not changed), its warnings left to that build; drawn on the mesh's
+    loop triangles (triangles None: read from Blender when drawn).
+    ``"coarse"``: ``heatcore.CoarsePreview.of_arrays`` of the run's triangles,
+    or of its polygons' fan triangles (reading the loop triangles would hold
+    Blender 0.13 s at 504k vertices), which it is drawn on; the parts of its
+    sources only.
+
+    Returns
+    -------
+    distance : (n,) float array
+    triangles : (m, 3) int array or None
     """
+    if preview_kind(run) == "coarse":
+        triangles = run.F if run.F is not None else fan_triangulate(*run.polygons)[0]
+        clusters = min(COARSE_PREVIEW_CLUSTERS, len(run.V) // 10)
+        preview = heatcore.CoarsePreview.of_arrays(run.V, triangles, vertices=clusters, only_parts_of=run.sources)
+        return preview.distance(run.sources), triangles
     settings = dataclasses.replace(run.settings, mesh=run.settings.mesh.replace(refine=0),
                                    solver=run.settings.solver.replace(accuracy="smooth"))
     coarse = dataclasses.replace(run, settings=settings, notes=[], solver=None)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         build_solver(coarse)
-    return coarse.solver.distance(coarse.sources)
+    return coarse.solver.distance(coarse.sources), None
+
+
+class PreviewWork:
+    """:func:`preview_distance` of a run, computed in a daemon thread beside the solver's build.
+
+    No ``bpy`` in the thread. ``distance`` (and ``triangles``) are None until it
+    is done, and ``distance`` stays None where the mesh or sources are refused (``heatcore.HeatcoreError``:
+    the build reports what is wrong) or the preview failed otherwise (a bug:
+    its traceback is logged; the click goes on without a preview).
+    """
+
+    def __init__(self, run):
+        self.distance = self.triangles = None
+        self._thread = threading.Thread(target=self._work, args=(run,), name="heat geodesic preview", daemon=True)
+        self._thread.start()
+
+    def _work(self, run):
+        try:
+            self.distance, self.triangles = preview_distance(run)
+        except heatcore.HeatcoreError:
+            pass
+        except Exception:  # a preview must not cost the click its answer: the traceback is logged
+            log.exception("the geodesic distance preview failed")
+
+    def done(self):
+        """Whether the thread has ended."""
+        return not self._thread.is_alive()
+
+    def wait(self, timeout=None):
+        """Wait for the thread (at most ``timeout`` seconds); whether it has ended."""
+        self._thread.join(timeout)
+        return self.done()
 
 
 @dataclasses.dataclass
@@ -77,7 +161,7 @@ class Preview:
     Attributes
     ----------
     distance : (n,) float array
-        Per vertex of the mesh (``inf``: unreachable), unrefined.
+        Per vertex of the mesh (``inf``: unreachable), on the unrefined or the coarse mesh.
     data : OverlayData
         What is drawn: the mesh as displayed, colored by ``distance``, and the sources.
     overlay : Overlay or None
@@ -89,10 +173,13 @@ class Preview:
     overlay: Overlay = None
 
     @classmethod
-    def show(cls, obj, run):
-        """Solve on the unrefined mesh (:func:`preview_distance`) and draw the distance over ``obj`` as displayed."""
-        distance = preview_distance(run)
-        surface = DisplayedSurface.of(obj, run)
+    def show(cls, obj, run, distance, triangles=None):
+        """Draw ``distance`` over ``obj`` as displayed, on ``triangles`` (default: its loop triangles); None where its
+        vertices are not the distance's any more (the object was edited meanwhile: the build's end says so)."""
+        surface = DisplayedSurface.of(obj, run) if triangles is None else DisplayedSurface(
+            displayed_positions(obj, run), triangles)
+        if len(surface.positions) != len(distance):
+            return None
         colors = field_colors(distance, color_table(run.outputs["colormap"], run.outputs["isolines"]))
         data = OverlayData(surface.positions32, surface.triangles32, colors, surface.positions32[run.sources])
         overlay = Overlay()

@@ -30,10 +30,10 @@ import warnings
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .domains.intrinsic import face_areas
 from .domains.parts import vertex_components
 from .domains.sources import barycentric_array, index_list
 from .domains.triangle import TriangleMesh
+from .domains.validate import mesh_arrays
 from .errors import HeatcoreWarning, UnsupportedDomainError
 from .heat import HeatSolver
 
@@ -79,13 +79,70 @@ class CoarsePreview:
     def __init__(self, domain, vertices=PREVIEW_VERTICES):
         if not isinstance(domain, TriangleMesh):
             raise UnsupportedDomainError(f"a coarse preview is made of triangle meshes, not {type(domain).__name__}")
-        self.n_input = domain.n_input_vertices
         compact = domain.vertex_map
-        faces = compact[domain.faces[domain.face_map >= 0]]
         n = int(compact.max()) + 1
         X = np.zeros((n, 3))
         X[compact[compact >= 0]] = domain.vertices[compact >= 0]
-        cluster_of, C = _clusters(X, faces, vertices)
+        faces = compact[domain.faces[domain.face_map >= 0]]
+        self._build(X, faces, None, compact, vertices)
+        self._faces = domain.faces
+
+    @classmethod
+    def of_arrays(cls, V, F, vertices=PREVIEW_VERTICES, only_parts_of=None):
+        """A preview straight from vertex and triangle arrays, with no domain built first.
+
+        What a first click shows while the mesh's own solver builds (Blender's
+        button, :mod:`blender_addon.preview`): the domain's build (intrinsic
+        triangulation, checks, welding) is the part of the first answer it
+        does not wait for. Faces are taken as given (no cleanup: a degenerate
+        face vanishes in the clustering anyway).
+
+        Parameters
+        ----------
+        V : (n, 3) array_like of float
+        F : (m, 3) array_like of int
+            Triangles (of polygons, their fan triangles do:
+            :func:`~heatcore.domains.polygon_shape.fan_triangulate`).
+        vertices : int, default PREVIEW_VERTICES
+            About how many clusters to make.
+        only_parts_of : array_like of int, optional
+            Vertices: only the connected parts they are on are previewed
+            (elsewhere ``inf``), as ``TriangleMesh(..., only_parts_of=)`` builds.
+
+        Raises
+        ------
+        InvalidMeshError
+            Bad arrays (:func:`~heatcore.domains.validate.mesh_arrays`), or no
+            area left in the coarse mesh.
+
+        Examples
+        --------
+        >>> import heatcore as hc
+        >>> V, F = hc.io.load_demo_mesh()
+        >>> preview = CoarsePreview.of_arrays(V, F, vertices=500, only_parts_of=[0])
+        >>> bool(np.isfinite(preview.distance([0])).all())
+        True
+        """
+        self = cls.__new__(cls)
+        V, F = mesh_arrays(V, F)
+        _, part = vertex_components(F, len(V))
+        kept = F
+        if only_parts_of is not None:
+            sources = index_list(only_parts_of, len(V), "vertex")
+            kept = F[np.isin(part[F[:, 0]], part[sources])]
+        used = np.zeros(len(V), dtype=bool)
+        used[kept.ravel()] = True
+        compact = np.full(len(V), -1, dtype=np.int64)
+        compact[used] = np.arange(np.count_nonzero(used))
+        self._build(V[used], compact[kept], part[used], compact, vertices)
+        self._faces = F  # the input's faces: a point's face index is the caller's
+        return self
+
+    def _build(self, X, faces, part, compact, vertices):
+        """Cluster the compact mesh ``X``, ``faces`` (parts ``part``, or None to find them) and build the coarse solver;
+        ``compact`` maps each input vertex to its row of ``X`` (-1: unused)."""
+        self.n_input = compact.size
+        cluster_of, C = _clusters(X, faces, vertices, part)
         coarse = cluster_of[faces]
         coarse = coarse[(coarse[:, 0] != coarse[:, 1]) & (coarse[:, 1] != coarse[:, 2]) & (coarse[:, 2] != coarse[:, 0])]
         with warnings.catch_warnings():
@@ -95,7 +152,6 @@ class CoarsePreview:
         self.n_clusters = len(C)
         cluster_of = _on_faces(cluster_of, C, mesh.vertex_map >= 0)
         self.cluster = np.where(compact >= 0, cluster_of[np.maximum(compact, 0)], -1)
-        self._faces = domain.faces
 
     def distance(self, vertices=None, *, points=None):
         """Coarse distances at the input vertices from source vertices and points ``(faces, barycentric)``.
@@ -127,10 +183,14 @@ def _on_faces(cluster_of, C, used):
     return moved[cluster_of]
 
 
-def _clusters(X, faces, target):
-    """Each vertex's cluster (grid cells of one part) and the clusters' mean positions."""
-    _, part = vertex_components(faces, len(X))
-    area = face_areas(np.linalg.norm(X[np.roll(faces, -1, axis=1)] - X[faces], axis=2)).sum()
+def _clusters(X, faces, target, part=None):
+    """Each vertex's cluster (grid cells of one part: ``part``, or the faces' connected parts) and the clusters' mean positions."""
+    if part is None:
+        _, part = vertex_components(faces, len(X))
+    P = np.ascontiguousarray(X.T)  # coordinate rows: the area's passes are contiguous (10x faster than over rows of 3)
+    u, v = P[:, faces[:, 1]] - P[:, faces[:, 0]], P[:, faces[:, 2]] - P[:, faces[:, 0]]
+    area = 0.5 * np.sqrt((u[1] * v[2] - u[2] * v[1]) ** 2 + (u[2] * v[0] - u[0] * v[2]) ** 2
+                         + (u[0] * v[1] - u[1] * v[0]) ** 2).sum()
     cell = np.sqrt(area / max(int(target), 1)) or 1.0
     cells = np.floor((X - X.min(axis=0)) / cell).astype(np.int64)
     dims = cells.max(axis=0) + 1

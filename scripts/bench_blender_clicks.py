@@ -225,13 +225,16 @@ def button_click(addon, obj, vertex, write_weights):
     run = addon.stages.prepare_run(obj, isolines=10, weight_group=weights, polygons=POLYGONS[0])
     modal = addon.operator.ModalRun(run, QuietDisplay(), lambda kind, text: None)
     modal.start(obj)
-    shown = time.perf_counter() - start
+    shown = None
     while True:  # Blender's first timer event comes one step after the click
         time.sleep(addon.display.timer_step(time.perf_counter() - start))
-        if modal.handle(bpy.context, "TIMER") != {"PASS_THROUGH"}:
+        state = modal.handle(bpy.context, "TIMER")
+        if shown is None and modal.preview is not None:
+            shown = time.perf_counter() - start  # drawn at this timer event
+        if state != {"PASS_THROUGH"}:
             break
     written = time.perf_counter() - start
-    return (shown if modal.preview is not None else written), written
+    return (written if shown is None else shown), written
 
 
 #: The operator's ``polygons`` option for every click (``--polygons``).

@@ -10,6 +10,8 @@ Measured on the main thread:
 - ``longest stall``: the longest gap between two ticks while the worker builds: Python on the
   main thread (Blender's UI drawing, its timers) waits that long for the GIL;
 - ``finish``: the timer event that queries the distance and writes the outputs;
+- ``preview``: when the first answer was drawn (the coarse preview of a large mesh, :mod:`blender_addon.preview`),
+  and how long the timer event that drew it took (``timer``, the longest timer event before ``finish``, includes it);
 
 and the progress: stage updates, and the longest time between two of them.
 
@@ -51,8 +53,9 @@ def measure(obj, backend):
     run = stages.prepare_run(obj, sources=[source], isolines=10, backend=backend)
     prepare = time.perf_counter() - t0
     modal = operator.ModalRun(run, Display(), lambda kind, text: print("   ", *kind, text))
-    modal.start()
+    modal.start(obj)
     stall = handle_max = finish = 0.0
+    shown = shown_event = None
     last = next_timer = time.perf_counter()
     while True:
         time.sleep(TICK)
@@ -63,6 +66,8 @@ def measure(obj, backend):
             h0 = time.perf_counter()
             state = modal.handle(bpy.context, "TIMER")
             spent = time.perf_counter() - h0
+            if shown is None and modal.preview is not None:
+                shown, shown_event = time.perf_counter() - t0, spent
             if modal.result is not None or state != {"PASS_THROUGH"}:
                 finish = spent
                 break
@@ -83,6 +88,8 @@ def measure(obj, backend):
         "stall": stall,
         "timer": handle_max,
         "finish": finish,
+        "preview": shown,
+        "preview_event": shown_event,
         "updates": len(updates),
         "gap": gaps[worst + 1],
         "gap_stage": updates[worst][2],
@@ -97,12 +104,14 @@ def main(argv=None):
     args = parser.parse_args(argv)
     load_addon()
     obj = make_mesh(args.mesh, args.levels)
-    print("| backend | vertices | build | click to result | prepare (main) | longest main-thread stall "
-          "| longest timer event | finish (main) | progress updates | longest gap between updates |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("| backend | vertices | build | preview drawn (its timer event) | click to result | prepare (main) "
+          "| longest main-thread stall | longest timer event | finish (main) | progress updates "
+          "| longest gap between updates |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for backend in args.backend or ["auto"]:
         r = measure(obj, backend)
-        print(f"| {r['backend']} | {r['vertices']:,} | {r['build']:.1f} s | {r['total']:.1f} s | {r['prepare']:.2f} s "
+        drawn = "none" if r["preview"] is None else f"{r['preview']:.2f} s ({r['preview_event'] * 1000:.0f} ms)"
+        print(f"| {r['backend']} | {r['vertices']:,} | {r['build']:.1f} s | {drawn} | {r['total']:.1f} s | {r['prepare']:.2f} s "
               f"| {r['stall']:.2f} s | {r['timer'] * 1000:.0f} ms | {r['finish']:.2f} s | {r['updates']} "
               f"| {r['gap']:.1f} s ({r['gap_stage']}) |", flush=True)
 

@@ -42,3 +42,38 @@ def test_separate_parts_never_merge_and_unused_vertices_are_inf():
 def test_other_domains_are_refused():
     with pytest.raises(hc.UnsupportedDomainError, match="triangle meshes"):
         hc.CoarsePreview(hc.PolygonMesh(np.eye(3), [[0, 1, 2]]))
+
+
+def test_of_arrays_is_the_domain_preview_without_the_domain():
+    V, F = icosphere(4)
+    direct = hc.CoarsePreview.of_arrays(V, F, vertices=800)
+    via_domain = hc.CoarsePreview(hc.TriangleMesh(V, F, refine=0), vertices=800)
+    assert direct.n_clusters == via_domain.n_clusters
+    np.testing.assert_array_equal(direct.cluster, via_domain.cluster)
+    np.testing.assert_array_equal(direct.distance([3]), via_domain.distance([3]))
+    exact = great_circle(V, 3)
+    assert np.abs(direct.distance([3]) - exact).mean() < 0.03 * np.pi  # measured 1.8% of the half circumference
+
+
+def test_of_arrays_previews_only_the_parts_of_its_sources():
+    V0, F0 = icosphere(3)
+    V = np.vstack([V0, V0 + [3.0, 0, 0], [[9.0, 9.0, 9.0]]])  # two spheres and a loose vertex
+    F = np.vstack([F0, F0 + len(V0)])
+    preview = hc.CoarsePreview.of_arrays(V, F, vertices=50, only_parts_of=[len(V0) + 4])
+    alone = hc.CoarsePreview.of_arrays(V[len(V0) : -1], F0, vertices=50)
+    d = preview.distance([len(V0) + 4])
+    assert np.isinf(d[: len(V0)]).all() and np.isinf(d[-1])
+    np.testing.assert_array_equal(d[len(V0) : -1], alone.distance([4]))  # the same cells: the cells of the kept part only
+    # a point's face is the input's (the first sphere's faces are not built, but still counted)
+    face = len(F0) + 11
+    np.testing.assert_array_equal(preview.distance(points=([face], [[0.8, 0.1, 0.1]])), preview.distance([F[face, 0]]))
+
+
+@pytest.mark.parametrize("V, F, match", [
+    ([[0, 0, 0], [1, 0, 0], [np.nan, 1, 0]], [[0, 1, 2]], "NaN"),
+    ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 3]], "references vertex 3"),
+])
+def test_of_arrays_refuses_bad_arrays(V, F, match):
+    with pytest.raises(hc.InvalidMeshError, match=match):
+        hc.CoarsePreview.of_arrays(V, F)
+
