@@ -12,7 +12,7 @@ distance with the probe's overlay (:mod:`.overlay`) at the next timer event:
 - ``"coarse"``: a mesh of ``COARSE_PREVIEW_FROM`` vertices or more is
   clustered to about ``COARSE_PREVIEW_CLUSTERS`` vertices straight from its
   faces (``heatcore.CoarsePreview.of_arrays``: no domain built
-  first; 0.06 s at 51k, about 0.4 s at 504k), each vertex showing its
+  first; 0.06 s at 51k, 0.4-0.6 s at 504k), each vertex showing its
   cluster's distance.
 
 The overlay is drawn, never written: the result written when the build ends
@@ -46,7 +46,8 @@ fan_triangulate = importlib.import_module(heatcore.__name__ + ".domains.polygon_
 #: From this many vertices a click's preview is a coarse one (a solver build there takes 0.3 s and more).
 COARSE_PREVIEW_FROM = 20_000
 #: About how many vertices a coarse preview clusters a mesh to (at most a tenth of the mesh's): 0.06 s at 51k
-#: vertices (5,000 clusters), 0.4 s at 504k; 1% off on a 51k torus and 0.8% on Suzanne at 504k (of the largest distance).
+#: vertices (5,000 clusters), 0.4-0.6 s at 504k; off by 0.6% (torus, 51k) and 0.7% (Suzanne, 504k) of the largest
+#: distance on average, 2.4% and 5.3% at worst, against the polygon solver's result.
 COARSE_PREVIEW_CLUSTERS = 10_000
 #: What the header adds while each kind of preview is (about to be) shown.
 PREVIEW_TITLES = {"unrefined": " (preview on the unrefined mesh shown)", "coarse": " (coarse preview shown)"}

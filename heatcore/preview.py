@@ -187,10 +187,10 @@ def _clusters(X, faces, target, part=None):
     """Each vertex's cluster (grid cells of one part: ``part``, or the faces' connected parts) and the clusters' mean positions."""
     if part is None:
         _, part = vertex_components(faces, len(X))
-    P = np.ascontiguousarray(X.T)  # coordinate rows: the area's passes are contiguous (10x faster than over rows of 3)
-    u, v = P[:, faces[:, 1]] - P[:, faces[:, 0]], P[:, faces[:, 2]] - P[:, faces[:, 0]]
-    area = 0.5 * np.sqrt((u[1] * v[2] - u[2] * v[1]) ** 2 + (u[2] * v[0] - u[0] * v[2]) ** 2
-                         + (u[0] * v[1] - u[1] * v[0]) ** 2).sum()
+    a, b, c = (np.ascontiguousarray(faces[:, k]) for k in range(3))  # column by column: contiguous passes,
+    x, y, z = (np.ascontiguousarray(X[:, k]) for k in range(3))  # several times faster than over rows of 3
+    ux, uy, uz, vx, vy, vz = x[b] - x[a], y[b] - y[a], z[b] - z[a], x[c] - x[a], y[c] - y[a], z[c] - z[a]
+    area = 0.5 * np.sqrt((uy * vz - uz * vy) ** 2 + (uz * vx - ux * vz) ** 2 + (ux * vy - uy * vx) ** 2).sum()
     cell = np.sqrt(area / max(int(target), 1)) or 1.0
     cells = np.floor((X - X.min(axis=0)) / cell).astype(np.int64)
     dims = cells.max(axis=0) + 1
