@@ -27,7 +27,7 @@ from .api import compute_geodesic_distance
 from .background import CANCELLED, FAILED, RUNNING, BackgroundBuild, Busy
 from .display import ProgressDisplay
 from .legend import format_distance
-from .preview import Preview, PreviewWork, preview_title, wants_preview
+from .preview import Preview, PreviewWork, preview_kind, preview_title, wants_preview
 from .properties import GeodesicOptions
 from .redo import draw_run_options
 from .stages import (
@@ -130,9 +130,14 @@ class ModalRun:
 
         Given the run's object, a run that :func:`~.preview.wants_preview` also starts its preview
         (:class:`~.preview.PreviewWork`), drawn over the object once computed, taken down when the run ends.
+        A preview on the unrefined mesh takes a few milliseconds: it is drawn at once, before the build starts
+        (beside the build's thread it came 0.03 s later).
         """
         if obj is not None and wants_preview(self.run):
             self.preview_work = PreviewWork(self.run)
+            if preview_kind(self.run) == "unrefined":
+                self.preview_work.wait()
+                self.show_preview()
         try:
             self.build.start()
         except Busy:

@@ -3,17 +3,19 @@
 A button click whose solver is not cached waits for its build: 0.24 s of a
 162-vertex icosphere's 0.27 s (heatcore refines every part of fewer than
 ``AUTO_REFINE_MIN_VERTICES`` vertices, to 40,962 here), about 0.3 s at 50k
-vertices, seconds at 500k. So the click first answers on a cheaper mesh, in
-a thread of its own beside the build (:class:`PreviewWork`), and draws that
-distance with the probe's overlay (:mod:`.overlay`) at the next timer event:
+vertices, seconds at 500k. So the click first answers on a cheaper mesh
+(:class:`PreviewWork`, in a thread of its own) and draws that distance with
+the probe's overlay (:mod:`.overlay`):
 
 - ``"unrefined"``: a mesh the build refines is solved on as it is
-  (``refine=0``: its own vertices, a few milliseconds);
+  (``refine=0``: its own vertices, a few milliseconds), drawn at once,
+  before the build starts;
 - ``"coarse"``: a mesh of ``COARSE_PREVIEW_FROM`` vertices or more is
   clustered to about ``COARSE_PREVIEW_CLUSTERS`` vertices straight from its
   faces (``heatcore.CoarsePreview.of_arrays``: no domain built
   first; 0.06 s at 51k, 0.4-0.6 s at 504k), each vertex showing its
-  cluster's distance.
+  cluster's distance, computed beside the build and drawn at the next
+  timer event.
 
 The overlay is drawn, never written: the result written when the build ends
 is the mesh's own, the same as without a preview, in the same one undo step;

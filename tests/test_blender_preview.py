@@ -43,7 +43,11 @@ def great_circle(obj, source):
 
 
 def shown_preview(modal):
-    """The preview once computed, drawn at the next timer event (the build held at a gate meanwhile)."""
+    """The preview drawn while the build is held at a gate: a coarse one once computed, at the next timer event; an
+    unrefined one at once."""
+    if importlib.import_module("blender_addon.preview").preview_kind(modal.run) == "unrefined":
+        assert modal.preview_work is None and modal.preview is not None
+        return modal.preview
     assert modal.preview_work.wait(60)
     assert modal.preview is None  # not before a timer event
     assert modal.handle(bpy.context, "TIMER") == {"PASS_THROUGH"}
