@@ -225,7 +225,7 @@ def button_click(addon, obj, vertex, write_weights):
     run = addon.stages.prepare_run(obj, isolines=10, weight_group=weights, polygons=POLYGONS[0])
     modal = addon.operator.ModalRun(run, QuietDisplay(), lambda kind, text: None)
     modal.start(obj)
-    shown = None
+    shown = time.perf_counter() - start if modal.preview is not None else None  # drawn at once
     while True:  # Blender's first timer event comes one step after the click
         time.sleep(addon.display.timer_step(time.perf_counter() - start))
         state = modal.handle(bpy.context, "TIMER")
