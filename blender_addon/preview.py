@@ -4,8 +4,8 @@ A button click whose solver is not cached waits for its build: 0.24 s of a
 162-vertex icosphere's 0.27 s (heatcore refines every part of fewer than
 ``AUTO_REFINE_MIN_VERTICES`` vertices, to 40,962 here), about 0.3 s at 50k
 vertices, seconds at 500k. So the click first answers on a cheaper mesh
-(:class:`PreviewWork`, in a thread of its own) and draws that distance with
-the probe's overlay (:mod:`.overlay`):
+(:class:`PreviewWork`) and draws that distance with the probe's overlay
+(:mod:`.overlay`):
 
 - ``"unrefined"``: a mesh the build refines is solved on as it is
   (``refine=0``: its own vertices, a few milliseconds), drawn at once,
@@ -14,8 +14,9 @@ the probe's overlay (:mod:`.overlay`):
   clustered to about ``COARSE_PREVIEW_CLUSTERS`` vertices straight from its
   faces (``heatcore.CoarsePreview.of_arrays``: no domain built
   first; 0.06 s at 51k, 0.4-0.6 s at 504k), each vertex showing its
-  cluster's distance, computed beside the build and drawn at the next
-  timer event.
+  cluster's distance, computed by the build's worker thread before the
+  solver (beside it, it slowed the build by more than its own time: 0.8 s
+  at 504k) and drawn at the next timer event.
 
 The overlay is drawn, never written: the result written when the build ends
 is the mesh's own, the same as without a preview, in the same one undo step;
@@ -25,7 +26,8 @@ written, as before.
 Examples
 --------
 >>> work = PreviewWork(run) if wants_preview(run) else None  # doctest: +SKIP
->>> preview = Preview.show(obj, run, work.distance, work.triangles) if work.wait(1) else None  # doctest: +SKIP
+>>> work.compute()                                          # doctest: +SKIP
+>>> preview = Preview.show(obj, run, work.distance, work.triangles)  # doctest: +SKIP
 >>> preview.remove()                                                            # doctest: +SKIP
 """
 
@@ -126,35 +128,39 @@ def preview_distance(run):
 
 
 class PreviewWork:
-    """:func:`preview_distance` of a run, computed in a daemon thread beside the solver's build.
+    """:func:`preview_distance` of a run, computed by :meth:`compute` in any thread (no ``bpy``), for the main thread.
 
-    No ``bpy`` in the thread. ``distance`` (and ``triangles``) are None until it
-    is done, and ``distance`` stays None where the mesh or sources are refused (``heatcore.HeatcoreError``:
+    ``distance`` (and ``triangles``) are None until it is done, and ``distance``
+    stays None where the mesh or sources are refused (``heatcore.HeatcoreError``:
     the build reports what is wrong) or the preview failed otherwise (a bug:
     its traceback is logged; the click goes on without a preview).
     """
 
     def __init__(self, run):
+        self.run = run
         self.distance = self.triangles = None
-        self._thread = threading.Thread(target=self._work, args=(run,), name="heat geodesic preview", daemon=True)
-        self._thread.start()
+        self._done = threading.Event()
 
-    def _work(self, run):
+    def compute(self):
+        """Compute the preview (once; later calls return at once)."""
+        if self._done.is_set():
+            return
         try:
-            self.distance, self.triangles = preview_distance(run)
+            self.distance, self.triangles = preview_distance(self.run)
         except heatcore.HeatcoreError:
             pass
         except Exception:  # a preview must not cost the click its answer: the traceback is logged
             log.exception("the geodesic distance preview failed")
+        finally:
+            self._done.set()
 
     def done(self):
-        """Whether the thread has ended."""
-        return not self._thread.is_alive()
+        """Whether :meth:`compute` has ended."""
+        return self._done.is_set()
 
     def wait(self, timeout=None):
-        """Wait for the thread (at most ``timeout`` seconds); whether it has ended."""
-        self._thread.join(timeout)
-        return self.done()
+        """Wait for :meth:`compute` to end (at most ``timeout`` seconds); whether it has."""
+        return self._done.wait(timeout)
 
 
 @dataclasses.dataclass

@@ -62,7 +62,6 @@ def modal_run(modules, obj, **options):
 def gate(modal, modules, stage):
     """Hold the worker when it reports ``stage`` until ``release`` is set; ``reached`` is set there."""
     reached, release = threading.Event(), threading.Event()
-    run = modal.run
 
     def work(progress):
         def gated(fraction, message):
@@ -71,7 +70,7 @@ def gate(modal, modules, stage):
                 reached.set()
                 assert release.wait(60)
 
-        return modules["stages"].build_solver(run, gated)
+        return modal.work(gated)
 
     modal.build.work = work
     return reached, release

@@ -163,20 +163,20 @@ def test_a_large_mesh_is_previewed_coarse_and_its_own_result_written(modules, co
     np.testing.assert_allclose(modal.result.distance, expected.distance, rtol=1e-12, atol=1e-12)
 
 
-def test_a_preview_computed_after_esc_is_never_drawn(modules, coarse_from_2000):
+def test_a_preview_computed_but_not_drawn_before_esc_is_never_drawn(modules, coarse_from_2000):
     overlay = modules["overlay"]
     obj = ico_sphere(5)
     select_only(obj, [7])
     before = snapshot(obj)
     modal, _ = modal_run(modules, obj)
-    _, release = gate(modal, modules, "factoring the heat matrix")
+    reached, release = gate(modal, modules, "factoring the heat matrix")
     modal.start(obj)
     work = modal.preview_work
+    assert reached.wait(60) and work.done() and work.distance is not None  # computed by the worker, not yet drawn
     assert modal.handle(bpy.context, "ESC", "PRESS") == {"CANCELLED"}
     release.set()
-    assert work.wait(60) and work.distance is not None  # computed, but the run has ended
-    assert modal.preview is None and not overlay.Overlay.live
     assert modal.build.wait(60)
+    assert modal.preview is None and not overlay.Overlay.live
     assert_same_snapshot(before, snapshot(obj))
 
 
