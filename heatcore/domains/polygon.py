@@ -369,7 +369,7 @@ class PolygonMesh(MeshDomain):
         offsets, indices, origin = simple_polygons(
             self.vertices, self.offsets, self.indices, np.flatnonzero(kept), split_crossing, planes
         )
-        used = np.unique(self.indices)
+        used = np.flatnonzero(np.bincount(self.indices, minlength=n))  # np.unique's result, no sort
         self.vertex_map = np.full(n, -1, dtype=np.int64)
         self.vertex_map[used] = np.arange(used.size)
         offsets, indices, self._origin, self.n_triangulated = triangulate_where_needed(
