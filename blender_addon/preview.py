@@ -46,7 +46,6 @@ from .stages import build_solver
 
 #: ``heatcore.domains.refine.AUTO_REFINE_MIN_VERTICES``: meshes under it are refined by default, and previewed.
 AUTO_REFINE_MIN_VERTICES = importlib.import_module(heatcore.__name__ + ".domains.refine").AUTO_REFINE_MIN_VERTICES
-fan_triangulate = importlib.import_module(heatcore.__name__ + ".domains.polygon_shape").fan_triangulate
 #: From this many vertices a click's preview is a coarse one (a solver build there takes 0.3 s and more).
 COARSE_PREVIEW_FROM = 20_000
 #: About how many vertices a coarse preview clusters a mesh to (at most a tenth of the mesh's): 0.06 s at 51k
@@ -103,10 +102,10 @@ def preview_distance(run):
     own solver, on a copy of the run (``refine=0``, ``accuracy="smooth"``; the
     run is not changed), its warnings left to that build; drawn on the mesh's
     loop triangles (triangles None: read from Blender when drawn).
-    ``"coarse"``: ``heatcore.CoarsePreview.of_arrays`` of the run's triangles,
-    or of its polygons' fan triangles (reading the loop triangles would hold
-    Blender 0.13 s at 504k vertices), which it is drawn on; the parts of its
-    sources only.
+    ``"coarse"``: ``heatcore.CoarsePreview.of_arrays`` of the run's triangles
+    or polygons (fans where they cover their polygons, else triangulated), drawn on
+    the triangles it used (reading Blender's loop triangles would hold it
+    0.13 s at 504k vertices); the parts of its sources only.
 
     Returns
     -------
@@ -114,10 +113,10 @@ def preview_distance(run):
     triangles : (m, 3) int array or None
     """
     if preview_kind(run) == "coarse":
-        triangles = run.F if run.F is not None else fan_triangulate(*run.polygons)[0]
+        faces = run.F if run.F is not None else run.polygons
         clusters = min(COARSE_PREVIEW_CLUSTERS, len(run.V) // 10)
-        preview = heatcore.CoarsePreview.of_arrays(run.V, triangles, vertices=clusters, only_parts_of=run.sources)
-        return preview.distance(run.sources), triangles
+        preview = heatcore.CoarsePreview.of_arrays(run.V, faces, vertices=clusters, only_parts_of=run.sources)
+        return preview.distance(run.sources), preview.triangles
     settings = dataclasses.replace(run.settings, mesh=run.settings.mesh.replace(refine=0),
                                    solver=run.settings.solver.replace(accuracy="smooth"))
     coarse = dataclasses.replace(run, settings=settings, notes=[], solver=None)

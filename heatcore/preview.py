@@ -33,7 +33,9 @@ from scipy.spatial import cKDTree
 from .domains.parts import vertex_components
 from .domains.sources import barycentric_array, index_list
 from .domains.triangle import TriangleMesh
-from .domains.validate import mesh_arrays
+from .domains.polygon import polygon_arrays
+from .domains.polygon_triangulate import covering_triangles
+from .domains.validate import mesh_arrays, vertex_array
 from .errors import HeatcoreWarning, UnsupportedDomainError
 from .heat import HeatSolver
 
@@ -58,6 +60,9 @@ class CoarsePreview:
     n_clusters : int
     cluster : (n_input,) int array
         Each input vertex's cluster (-1 where no kept face uses it).
+    triangles : (m, 3) int array
+        The input's triangles (the domain's faces; :meth:`of_arrays`: its
+        triangles, or those covering its polygons), which point sources name.
 
     Raises
     ------
@@ -85,11 +90,11 @@ class CoarsePreview:
         X[compact[compact >= 0]] = domain.vertices[compact >= 0]
         faces = compact[domain.faces[domain.face_map >= 0]]
         self._build(X, faces, None, compact, vertices)
-        self._faces = domain.faces
+        self.triangles = domain.faces
 
     @classmethod
-    def of_arrays(cls, V, F, vertices=PREVIEW_VERTICES, only_parts_of=None):
-        """A preview straight from vertex and triangle arrays, with no domain built first.
+    def of_arrays(cls, V, faces, vertices=PREVIEW_VERTICES, only_parts_of=None):
+        """A preview straight from vertex and face arrays, with no domain built first.
 
         What a first click shows while the mesh's own solver builds (Blender's
         button, :mod:`blender_addon.preview`): the domain's build (intrinsic
@@ -100,9 +105,12 @@ class CoarsePreview:
         Parameters
         ----------
         V : (n, 3) array_like of float
-        F : (m, 3) array_like of int
-            Triangles (of polygons, their fan triangles do:
-            :func:`~heatcore.domains.polygon_shape.fan_triangulate`).
+        faces : (m, 3) array_like of int, or (offsets, indices)
+            Triangles, or polygons as a tuple of two 1-D arrays as
+            :class:`~heatcore.PolygonMesh` takes them, split into triangles
+            that cover them (:func:`~heatcore.domains.polygon_triangulate.covering_triangles`:
+            a polygon's fan where it covers it, else its triangulation). A
+            point source's face is one of :attr:`triangles`.
         vertices : int, default PREVIEW_VERTICES
             About how many clusters to make.
         only_parts_of : array_like of int, optional
@@ -124,7 +132,10 @@ class CoarsePreview:
         True
         """
         self = cls.__new__(cls)
-        V, F = mesh_arrays(V, F)
+        if isinstance(faces, tuple) and len(faces) == 2 and all(isinstance(a, np.ndarray) and a.ndim == 1 for a in faces):
+            V = vertex_array(V)
+            faces = covering_triangles(V, *polygon_arrays(faces, len(V)))
+        V, F = mesh_arrays(V, faces)
         _, part = vertex_components(F, len(V))
         kept = F
         if only_parts_of is not None:
@@ -135,7 +146,7 @@ class CoarsePreview:
         compact = np.full(len(V), -1, dtype=np.int64)
         compact[used] = np.arange(np.count_nonzero(used))
         self._build(V[used], compact[kept], part[used], compact, vertices)
-        self._faces = F  # the input's faces: a point's face index is the caller's
+        self.triangles = F  # the input's triangles (or its polygons'): a point's face index is one of these
         return self
 
     def _build(self, X, faces, part, compact, vertices):
@@ -164,9 +175,9 @@ class CoarsePreview:
             sources.append(index_list(vertices, self.n_input, "vertex"))
         if points is not None:
             fi, bary = points
-            fi = index_list(fi, len(self._faces), "face")
+            fi = index_list(fi, len(self.triangles), "face")
             b = barycentric_array(bary, fi.size, 3)
-            sources.append(self._faces[fi, b.argmax(axis=1)])
+            sources.append(self.triangles[fi, b.argmax(axis=1)])
         clusters = self.cluster[np.concatenate(sources)]
         d = self.solver.distance(np.unique(clusters[clusters >= 0]))
         return np.where(self.cluster >= 0, d[np.maximum(self.cluster, 0)], np.inf)

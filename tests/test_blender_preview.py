@@ -195,7 +195,7 @@ def test_a_preview_of_another_vertex_count_is_not_drawn(modules, coarse_from_200
     assert drive(modal) == {"FINISHED"}
 
 
-def test_a_quad_mesh_is_previewed_from_its_fan_triangles_and_drawn_on_them(modules, coarse_from_2000):
+def test_a_quad_mesh_is_previewed_from_its_polygons_and_drawn_on_their_triangles(modules, coarse_from_2000):
     bpy.ops.mesh.primitive_torus_add(major_segments=64, minor_segments=40)  # 2,560 quads: measured as polygons
     obj = bpy.context.active_object
     select_only(obj, [0])
@@ -208,7 +208,7 @@ def test_a_quad_mesh_is_previewed_from_its_fan_triangles_and_drawn_on_them(modul
     offsets, indices = modal.run.polygons
     fan = np.stack([indices[offsets[:-1]], indices[offsets[:-1] + 1], indices[offsets[:-1] + 2],
                     indices[offsets[:-1]], indices[offsets[:-1] + 2], indices[offsets[:-1] + 3]], axis=1).reshape(-1, 3)
-    np.testing.assert_array_equal(preview.data.triangles, fan)
+    np.testing.assert_array_equal(preview.data.triangles, fan)  # convex quads: their fans cover them
     V = np.array([v.co for v in obj.data.vertices])
     expected = hc.CoarsePreview.of_arrays(V, fan, vertices=256, only_parts_of=[0]).distance([0])
     np.testing.assert_array_equal(preview.distance, expected)

@@ -4,6 +4,9 @@ import numpy as np
 import pytest
 from shapes import icosphere
 
+from heatcore.domains.polygon_shape import fan_triangulate
+from heatcore.domains.polygon_triangulate import covering_triangles
+
 import heatcore as hc
 
 
@@ -77,3 +80,27 @@ def test_of_arrays_refuses_bad_arrays(V, F, match):
     with pytest.raises(hc.InvalidMeshError, match=match):
         hc.CoarsePreview.of_arrays(V, F)
 
+
+
+def test_of_arrays_takes_polygons_as_the_triangles_covering_them():
+    # a row of L-shaped hexagons whose fans from their first corner fold across the notch, and quads
+    L = np.array([[2, 1], [1, 1], [1, 2], [0, 2], [0, 0], [2, 0]], float)  # from the corner beside the notch
+    V, faces = [], []
+    for k in range(30):
+        base = len(V)
+        V += [[x + 3 * k, y, 0.1 * k] for x, y in L]
+        faces.append(list(range(base, base + 6)))
+    quads = [[1, 7, 9, 3]]  # joins the first two L's: one part
+    offsets = np.r_[0, np.cumsum([len(f) for f in faces + quads])]
+    indices = np.concatenate(faces + quads)
+    V = np.array(V)
+    preview = hc.CoarsePreview.of_arrays(V, (offsets, indices), vertices=40)
+    covering = covering_triangles(V, offsets, indices)
+    np.testing.assert_array_equal(preview.triangles, covering)
+    def area(triangles):  # of the L's: their 120 triangles come first
+        return sum(np.linalg.norm(np.cross(V[b] - V[a], V[c] - V[a])) / 2 for a, b, c in triangles[:120])
+
+    assert area(covering) == pytest.approx(30 * 3, rel=1e-9)  # each L's area, 3
+    assert area(fan_triangulate(offsets, indices)[0]) > 30 * 3 + 29  # a fan covers the notch too (and folds)
+    np.testing.assert_array_equal(preview.distance([0]),
+                                  hc.CoarsePreview.of_arrays(V, covering, vertices=40).distance([0]))
