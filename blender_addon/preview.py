@@ -13,7 +13,7 @@ vertices, seconds at 500k. So the click first answers on a cheaper mesh
 - ``"coarse"``: a mesh of ``COARSE_PREVIEW_FROM`` vertices or more is
   clustered to about ``COARSE_PREVIEW_CLUSTERS`` vertices straight from its
   faces (``heatcore.CoarsePreview.of_arrays``: no domain built
-  first; 0.06 s at 51k, 0.4-0.6 s at 504k), each vertex showing its
+  first; 0.06-0.1 s at 51k, 0.4-0.7 s at 504k), each vertex showing its
   cluster's distance, computed by the build's worker thread before the
   solver (beside it, it slowed the build by more than its own time: 0.8 s
   at 504k) and drawn at the next timer event.
@@ -48,9 +48,9 @@ from .stages import build_solver
 AUTO_REFINE_MIN_VERTICES = importlib.import_module(heatcore.__name__ + ".domains.refine").AUTO_REFINE_MIN_VERTICES
 #: From this many vertices a click's preview is a coarse one (a solver build there takes 0.3 s and more).
 COARSE_PREVIEW_FROM = 20_000
-#: About how many vertices a coarse preview clusters a mesh to (at most a tenth of the mesh's): 0.06 s at 51k
-#: vertices (5,000 clusters), 0.4-0.6 s at 504k; off by 0.6% (torus, 51k) and 0.7% (Suzanne, 504k) of the largest
-#: distance on average, 2.4% and 5.3% at worst, against the polygon solver's result.
+#: About how many vertices a coarse preview clusters a mesh to (at most a tenth of the mesh's): 0.06-0.1 s at 51k
+#: vertices (6,382 clusters), 0.4-0.7 s at 504k; off by 0.6-2.1% of the largest distance on average, 3-8% at worst,
+#: against the polygon solver's result (docs/blender-benchmarks.md).
 COARSE_PREVIEW_CLUSTERS = 10_000
 #: What the header adds while each kind of preview is (about to be) shown.
 PREVIEW_TITLES = {"unrefined": " (preview on the unrefined mesh shown)", "coarse": " (coarse preview shown)"}

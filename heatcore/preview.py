@@ -31,10 +31,10 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .domains.parts import vertex_components
-from .domains.sources import barycentric_array, index_list
-from .domains.triangle import TriangleMesh
 from .domains.polygon import polygon_arrays
 from .domains.polygon_triangulate import covering_triangles
+from .domains.sources import barycentric_array, index_list
+from .domains.triangle import TriangleMesh
 from .domains.validate import mesh_arrays, vertex_array
 from .errors import HeatcoreWarning, UnsupportedDomainError
 from .heat import HeatSolver

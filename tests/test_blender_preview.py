@@ -42,6 +42,16 @@ def great_circle(obj, source):
     return np.arccos(np.clip(V @ V[source], -1.0, 1.0))
 
 
+def held_build(modules, obj, source, **options):
+    """A button click from ``source`` whose worker is held at the heat factorization: ``(modal, release)``."""
+    select_only(obj, [source])
+    modal, _ = modal_run(modules, obj, **options)
+    reached, release = gate(modal, modules, "factoring the heat matrix")
+    modal.start(obj)
+    assert reached.wait(60)
+    return modal, release
+
+
 def shown_preview(modal):
     """The preview drawn while the build is held at a gate: a coarse one once computed, at the next timer event; an
     unrefined one at once."""
@@ -58,12 +68,8 @@ def shown_preview(modal):
 def test_preview_is_drawn_at_once_and_the_refined_result_is_written(modules):
     overlay = modules["overlay"]
     obj = ico_sphere(3)  # 162 vertices: its solver is built on 40,962
-    select_only(obj, [0])
-    modal, _ = modal_run(modules, obj, isolines=10)
+    modal, release = held_build(modules, obj, 0, isolines=10)
     assert modules["preview"].preview_kind(modal.run) == "unrefined"
-    reached, release = gate(modal, modules, "factoring the heat matrix")
-    modal.start(obj)
-    assert reached.wait(60)
     preview = shown_preview(modal)
     assert preview is not None and preview.overlay in overlay.Overlay.live  # drawn while the solver builds
     assert "geodesic_distance" not in obj.data.attributes  # and nothing written
@@ -89,12 +95,8 @@ def test_preview_is_drawn_at_once_and_the_refined_result_is_written(modules):
 def test_esc_takes_the_preview_down_and_writes_nothing(modules):
     overlay = modules["overlay"]
     obj = ico_sphere(3)
-    select_only(obj, [5])
     before = snapshot(obj)
-    modal, _ = modal_run(modules, obj)
-    reached, release = gate(modal, modules, "factoring the heat matrix")
-    modal.start(obj)
-    assert reached.wait(60)
+    modal, release = held_build(modules, obj, 5)
     assert shown_preview(modal).overlay in overlay.Overlay.live
     release.set()  # the worker goes on to the next stage, where it sees the cancel
     assert modal.handle(bpy.context, "ESC", "PRESS") == {"CANCELLED"}
@@ -141,12 +143,8 @@ def coarse_from_2000(modules, monkeypatch):
 def test_a_large_mesh_is_previewed_coarse_and_its_own_result_written(modules, coarse_from_2000):
     overlay = modules["overlay"]
     obj = ico_sphere(5)
-    select_only(obj, [0])
-    modal, _ = modal_run(modules, obj, isolines=10)
+    modal, release = held_build(modules, obj, 0, isolines=10)
     assert modules["preview"].preview_kind(modal.run) == "coarse"
-    reached, release = gate(modal, modules, "factoring the heat matrix")
-    modal.start(obj)
-    assert reached.wait(60)
     preview = shown_preview(modal)
     assert preview.overlay in overlay.Overlay.live and "geodesic_distance" not in obj.data.attributes
     V = np.array([v.co for v in obj.data.vertices])
@@ -166,13 +164,10 @@ def test_a_large_mesh_is_previewed_coarse_and_its_own_result_written(modules, co
 def test_a_preview_computed_but_not_drawn_before_esc_is_never_drawn(modules, coarse_from_2000):
     overlay = modules["overlay"]
     obj = ico_sphere(5)
-    select_only(obj, [7])
     before = snapshot(obj)
-    modal, _ = modal_run(modules, obj)
-    reached, release = gate(modal, modules, "factoring the heat matrix")
-    modal.start(obj)
+    modal, release = held_build(modules, obj, 7)
     work = modal.preview_work
-    assert reached.wait(60) and work.done() and work.distance is not None  # computed by the worker, not yet drawn
+    assert work.done() and work.distance is not None  # computed by the worker, not yet drawn
     assert modal.handle(bpy.context, "ESC", "PRESS") == {"CANCELLED"}
     release.set()
     assert modal.build.wait(60)
@@ -183,11 +178,8 @@ def test_a_preview_computed_but_not_drawn_before_esc_is_never_drawn(modules, coa
 def test_a_preview_of_another_vertex_count_is_not_drawn(modules, coarse_from_2000):
     # the object edited while the preview was computed: its distance no longer fits the mesh, and the build says so
     obj = ico_sphere(5)
-    select_only(obj, [0])
-    modal, _ = modal_run(modules, obj)
-    reached, release = gate(modal, modules, "factoring the heat matrix")
-    modal.start(obj)
-    assert reached.wait(60) and modal.preview_work.wait(60)
+    modal, release = held_build(modules, obj, 0)
+    assert modal.preview_work.wait(60)
     modal.preview_work.distance = modal.preview_work.distance[:-1]
     modal.show_preview()
     assert modal.preview is None
@@ -198,12 +190,8 @@ def test_a_preview_of_another_vertex_count_is_not_drawn(modules, coarse_from_200
 def test_a_quad_mesh_is_previewed_from_its_polygons_and_drawn_on_their_triangles(modules, coarse_from_2000):
     bpy.ops.mesh.primitive_torus_add(major_segments=64, minor_segments=40)  # 2,560 quads: measured as polygons
     obj = bpy.context.active_object
-    select_only(obj, [0])
-    modal, _ = modal_run(modules, obj)
+    modal, release = held_build(modules, obj, 0)
     assert modal.run.F is None and modal.run.polygons is not None
-    reached, release = gate(modal, modules, "factoring the heat matrix")
-    modal.start(obj)
-    assert reached.wait(60)
     preview = shown_preview(modal)
     offsets, indices = modal.run.polygons
     fan = np.stack([indices[offsets[:-1]], indices[offsets[:-1] + 1], indices[offsets[:-1] + 2],

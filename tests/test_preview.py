@@ -4,10 +4,9 @@ import numpy as np
 import pytest
 from shapes import icosphere
 
+import heatcore as hc
 from heatcore.domains.polygon_shape import fan_triangulate
 from heatcore.domains.polygon_triangulate import covering_triangles
-
-import heatcore as hc
 
 
 def great_circle(V, s):
