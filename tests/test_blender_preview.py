@@ -95,8 +95,8 @@ def test_preview_is_drawn_at_once_and_the_refined_result_is_written(modules):
 def test_esc_takes_the_preview_down_and_writes_nothing(modules):
     overlay = modules["overlay"]
     obj = ico_sphere(3)
-    before = snapshot(obj)
     modal, release = held_build(modules, obj, 5)
+    before = snapshot(obj)  # selected, nothing written yet
     assert shown_preview(modal).overlay in overlay.Overlay.live
     release.set()  # the worker goes on to the next stage, where it sees the cancel
     assert modal.handle(bpy.context, "ESC", "PRESS") == {"CANCELLED"}
@@ -164,8 +164,8 @@ def test_a_large_mesh_is_previewed_coarse_and_its_own_result_written(modules, co
 def test_a_preview_computed_but_not_drawn_before_esc_is_never_drawn(modules, coarse_from_2000):
     overlay = modules["overlay"]
     obj = ico_sphere(5)
-    before = snapshot(obj)
     modal, release = held_build(modules, obj, 7)
+    before = snapshot(obj)  # selected, nothing written yet
     work = modal.preview_work
     assert work.done() and work.distance is not None  # computed by the worker, not yet drawn
     assert modal.handle(bpy.context, "ESC", "PRESS") == {"CANCELLED"}
