@@ -32,6 +32,7 @@ from scipy.spatial import cKDTree
 
 from .domains.parts import vertex_components
 from .domains.polygon import polygon_arrays
+from .domains.polygon_shape import area_vectors
 from .domains.polygon_triangulate import covering_triangles
 from .domains.sources import barycentric_array, index_list
 from .domains.triangle import TriangleMesh
@@ -198,10 +199,8 @@ def _clusters(X, faces, target, part=None):
     """Each vertex's cluster (grid cells of one part: ``part``, or the faces' connected parts) and the clusters' mean positions."""
     if part is None:
         _, part = vertex_components(faces, len(X))
-    a, b, c = (np.ascontiguousarray(faces[:, k]) for k in range(3))  # column by column: contiguous passes,
-    x, y, z = (np.ascontiguousarray(X[:, k]) for k in range(3))  # several times faster than over rows of 3
-    ux, uy, uz, vx, vy, vz = x[b] - x[a], y[b] - y[a], z[b] - z[a], x[c] - x[a], y[c] - y[a], z[c] - z[a]
-    area = 0.5 * np.sqrt((uy * vz - uz * vy) ** 2 + (uz * vx - ux * vz) ** 2 + (ux * vy - uy * vx) ** 2).sum()
+    nx, ny, nz = area_vectors(X, faces)
+    area = 0.5 * np.sqrt(nx**2 + ny**2 + nz**2).sum()
     cell = np.sqrt(area / max(int(target), 1)) or 1.0
     cells = np.floor((X - X.min(axis=0)) / cell).astype(np.int64)
     dims = cells.max(axis=0) + 1

@@ -227,6 +227,23 @@ def _vector_area_rows(X):
                      (X[0] * Y[1] - X[1] * Y[0]).sum(axis=0)])
 
 
+def area_vectors(X, F):
+    """Twice the vector area of each triangle ``F`` (m, 3) of ``X`` (n, 3), as its three coordinates ``(x, y, z)``.
+
+    Coordinate by coordinate: contiguous passes, several times faster than over rows of 3.
+
+    Examples
+    --------
+    >>> X = np.array([[0, 0, 0], [2, 0, 0], [0, 1, 0]], float)
+    >>> [c.tolist() for c in area_vectors(X, np.array([[0, 1, 2]]))]
+    [[0.0], [0.0], [2.0]]
+    """
+    a, b, c = (np.ascontiguousarray(F[:, k]) for k in range(3))
+    x, y, z = (np.ascontiguousarray(X[:, k]) for k in range(3))
+    ux, uy, uz, vx, vy, vz = x[b] - x[a], y[b] - y[a], z[b] - z[a], x[c] - x[a], y[c] - y[a], z[c] - z[a]
+    return uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
+
+
 def _cross_rows(a, b):
     """The cross product of 3-vectors laid out as rows ``(3, p)``."""
     return np.stack([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
