@@ -64,6 +64,8 @@ FRONT_END_NAMES = {"api": "Python API", "cli": "command-line", "batch": "batch",
 #: once factored), one (``"one query"``: the backend that factors fastest, see :mod:`heatcore.linalg`), or
 #: clicks (``"interactive"``: kept for the next clicks, but its first answer is waited for, so it
 #: factors as for one query; a solve costs a millisecond more at 41k vertices, a factorization 0.4 s less).
+#: A ``"one query"`` solver does not order a large Laplacian by nested dissection, which waits for METIS
+#: (:data:`heatcore.steps.factors.NESTED_DISSECTION_FOR`).
 INTENTS = ("reuse", "one query", "interactive")
 
 

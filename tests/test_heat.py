@@ -182,6 +182,22 @@ def test_large_mesh_poisson_factor_uses_nested_dissection(monkeypatch):
     assert np.allclose(solver.distance(many), hc.HeatSolver(mesh, backend="superlu").distance(many), atol=1e-9)
 
 
+@pytest.mark.skipif(
+    hc.linalg.metis.node_nd() is None or hc.linalg.libraries.optional("cvxopt") is None, reason="needs the scale extra"
+)
+def test_one_query_solvers_keep_minimum_degree(monkeypatch):
+    """A solver built for one query does not wait for METIS: its Laplacian keeps the minimum degree ordering."""
+    monkeypatch.setattr(hc.linalg.ordering, "NESTED_DISSECTION_MIN_SIZE", 0)  # as on large meshes
+    V, F = grid(31, 31)
+    mesh = hc.TriangleMesh(V, F, refine=1)
+    solver = hc.HeatSolver(mesh, backend="supernodal", intent="one query")
+    assert ("nested", "supernodal") not in mesh.derived and ("poisson", "supernodal") in mesh.derived
+    for kept_for in ("reuse", "interactive"):  # further queries: nested dissection
+        kept = hc.HeatSolver(hc.TriangleMesh(V, F, refine=1), backend="supernodal", intent=kept_for)
+        assert isinstance(kept.domain.derived["nested", "supernodal"], hc.linalg.Ordering)
+        assert np.allclose(solver.distance([3, 500]), kept.distance([3, 500]), rtol=1e-9, atol=1e-12)
+
+
 @pytest.mark.parametrize("option", [{"m": 0}, {"m": -1}, {"m": np.nan}, {"boundary": "x"}, {"accuracy": "x"}])
 def test_bad_options_raise(option):
     V, F = grid(5, 5)

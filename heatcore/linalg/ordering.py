@@ -9,7 +9,9 @@ instead of each computing its own:
   1M unknowns), for the ``supernodal`` backend;
 - :func:`start_nested_dissection`: METIS nested dissection in a background
   thread, from :data:`NESTED_DISSECTION_MIN_SIZE` unknowns up where pymetis
-  is installed (seconds longer than AMD, but a third smaller factor);
+  is installed (seconds longer than AMD, but a smaller factor; heat solvers
+  ask for it only when kept for further queries,
+  :data:`heatcore.steps.factors.NESTED_DISSECTION_FOR`);
 - :meth:`Ordering.restrict` and :func:`restrict_ordering`: the ordering
   induced on a principal submatrix.
 

@@ -52,6 +52,14 @@ from .poisson import PinnedPoisson, grounded
 
 log = logging.getLogger("heatcore")
 
+#: The intents whose solvers order the Laplacian by METIS nested dissection where it is large enough
+#: (:func:`~heatcore.linalg.start_nested_dissection`): those kept for further queries (a click's solver answers
+#: the next clicks and the probe's drags). Its factor is a third smaller and its queries 5-15% faster, but the
+#: build waits for METIS, which takes longer than the heat matrix's factorization it runs beside (2 cores: 1.1 s
+#: more at 504k vertices, 3.1 s at 1M, 7.8 s against 4.6 s): a single query never pays that back, and keeps
+#: minimum degree.
+NESTED_DISSECTION_FOR = ("reuse", "interactive")
+
 
 @dataclass(frozen=True)
 class HeatStep:
@@ -128,6 +136,8 @@ class SolverFactors:
         self.heat_backend = resolve_backend(settings.backend, n, intent=settings.intent, stage="factor")
         self.poisson_backend = resolve_backend(settings.backend, n, intent=settings.intent, stage="solve")
         self.timings = timings
+        # Nested dissection pays back its wait for METIS over further queries only (NESTED_DISSECTION_FOR).
+        self._nested = settings.intent in NESTED_DISSECTION_FOR
         self._heat_flow = self._long_flow = self._poisson = None
         self._deferred = None
 
@@ -138,12 +148,13 @@ class SolverFactors:
 
     def start(self):
         """Start the orderings: minimum degree where it runs beside the caller (the solver's time step), and on
-        large meshes the Laplacian's nested dissection, which runs while the heat matrix is factored."""
+        large meshes, for a solver kept for further queries (:data:`NESTED_DISSECTION_FOR`), the Laplacian's nested
+        dissection, which runs while the heat matrix is factored."""
         for backend in dict.fromkeys((self.heat_backend, self.poisson_backend)):
             if ("ordering", backend) not in self._cache:
                 self._cache["ordering", backend] = start_fill_reducing_ordering(self._laplacian, backend)
         backend = self.poisson_backend
-        if ("poisson", backend) not in self._cache and ("nested", backend) not in self._cache:
+        if self._nested and ("poisson", backend) not in self._cache and ("nested", backend) not in self._cache:
             self._cache["nested", backend] = start_nested_dissection(self._laplacian, backend)
 
     def defer(self, heat, progress):
