@@ -22,7 +22,7 @@ across undo), ``material`` (the isoline material), ``legend`` (its
 legend sub-panel), and the interactive tool: ``probe`` (:class:`GeodesicProbe`,
 sources at surface points, the field live), ``probe_surface`` (ray casting
 the displayed mesh), ``overlay`` (what it draws), ``curves`` (its path and isolines as curve objects) and
-``probe_tool`` (its modal operator and toolbar tools); ``tooltips`` (the options' tooltips for Blender users),
+``probe_tool`` (its modal operator and toolbar tools), ``probe_session`` (their event logic); ``tooltips`` (the options' tooltips for Blender users),
 ``targets`` (the objects a click measures), ``elements`` (selected faces and edges as sources),
 ``select_operator`` (*Select › Within Geodesic Distance*), ``redo`` (the operator's redo panel) and ``presets``
 (its presets).

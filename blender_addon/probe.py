@@ -47,7 +47,9 @@ from .stages import (
 _ACTIVE = weakref.WeakSet()
 
 #: From this many solver vertices a drag shows the coarse preview (``heatcore.CoarsePreview``: about 40 ms
-#: at 1M vertices, where a query takes 0.5 s) until the mouse rests (:meth:`GeodesicProbe.settle`).
+#: at 1M vertices, where a query takes 0.5 s) until the mouse rests (:meth:`GeodesicProbe.settle`). A mesh of
+#: this many vertices built in the background gets its preview first, from its arrays: sources can be placed
+#: and dragged on it while the solver builds (:attr:`GeodesicProbe.preview_ready`).
 PREVIEW_FROM = 200_000
 
 
@@ -60,7 +62,8 @@ class GeodesicProbe:
         A mesh object with faces (Object or Edit Mode).
     background : bool
         Build a missing solver in a worker thread (:meth:`poll` says when it
-        is ready); default: build it now.
+        is ready; on a large mesh sources can be placed on its coarse preview
+        before, :attr:`preview_ready`); default: build it now.
     overlay : bool
         Draw the field over the 3D Views (:class:`~.overlay.Overlay`).
     path_curve, isoline_curves : bool
@@ -107,6 +110,8 @@ class GeodesicProbe:
         #: Measured to world coordinates (Space Local), for the path; None in World space.
         self.matrix = None if self.run.space == "WORLD" else np.array(obj.matrix_world, dtype=np.float64)
         self.build = None
+        #: The coarse preview made from the mesh's arrays before its solver (a large mesh built in the background).
+        self.early_preview = None
         _settle(obj)
         _ACTIVE.add(self)  # flagged by any change from now on (during a background build too)
         try:
@@ -131,8 +136,18 @@ class GeodesicProbe:
         """Whether the solver and the ray-casting tree are there, checked and kept (queries can run)."""
         return self._adopted
 
+    @property
+    def preview_ready(self):
+        """Whether sources can be placed and dragged before :attr:`ready`: a large mesh's coarse preview and the
+        ray-casting tree are there while its solver builds (the field then stays the preview: :meth:`settle`
+        waits for the solver, :meth:`confirm` refuses)."""
+        return self.early_preview is not None and not self.ended
+
     def _build(self, progress):
-        """Worker: the solver (if not cached) and the ray-casting tree; no Blender data read."""
+        """Worker: the solver (if not cached) and the ray-casting tree; no Blender data read. A large mesh
+        (``PREVIEW_FROM``) gets the tree and its coarse preview first (:attr:`preview_ready`)."""
+        if progress is not None and self.run.solver is None and len(self.run.V) >= PREVIEW_FROM:
+            self._build_early_preview(progress)
         if self.run.solver is None:
             if self.run.F is None:
                 self.run.F = self.triangles
@@ -146,15 +161,32 @@ class GeodesicProbe:
             self._preview()
         return self.run.solver
 
+    def _build_early_preview(self, progress):
+        """Worker: the ray-casting tree, then the coarse preview from the mesh's arrays (:attr:`preview_ready`); a
+        mesh the preview refuses gets none (its solver's build goes on and says why, if it fails too)."""
+        progress(0.0, "preparing the ray casting")
+        self.surface.build_tree()
+        progress(0.05, "a coarse copy of the mesh, to place sources on while the solver builds")
+        try:
+            self.early_preview = heatcore.CoarsePreview.of_arrays(self.run.V, self.triangles)
+        except heatcore.HeatcoreError:
+            self.early_preview = None
+
     def _previews(self):
         """Whether drags show the coarse preview: a large mesh (``PREVIEW_FROM``) measured as triangles."""
+        if self.early_preview is not None:
+            return True
         domain = self.run.solver.domain
         return isinstance(domain, heatcore.TriangleMesh) and domain.operators.n_vertices >= PREVIEW_FROM
 
     def _preview(self):
-        """The coarse preview of the solver's mesh (kept in the domain's cache: made once per solver)."""
+        """The coarse preview of the solver's mesh, kept in the domain's cache (made once per solver: the one made
+        from the arrays before the solver where there is one); while the solver builds, that one."""
+        if self.run.solver is None:
+            return self.early_preview
         domain = self.run.solver.domain
-        return domain.derived.get_or_build(("coarse preview", None), lambda: heatcore.CoarsePreview(domain))
+        return domain.derived.get_or_build(("coarse preview", None),
+                                           lambda: self.early_preview or heatcore.CoarsePreview(domain))
 
     def _adopt(self):
         """Keep what was built: the solver in the add-on's cache, the tree beside it."""
@@ -228,10 +260,12 @@ class GeodesicProbe:
         self.changed = False
         return obj
 
-    def _require(self):
+    def _require(self, preview=False):
+        """Refuse an ended probe, or one whose solver is still being built (with ``preview``: unless its coarse
+        preview is ready, :attr:`preview_ready`)."""
         if self.ended:
             raise AddonError("this geodesic probe has ended (confirmed or cancelled)")
-        if not self.ready:
+        if not self.ready and not (preview and self.preview_ready):
             raise AddonError(f"the heat solver of {self.run.object_name!r} is still being built")
         if self.changed:
             self.check()
@@ -264,14 +298,15 @@ class GeodesicProbe:
         preview : bool
             On a large mesh (``PREVIEW_FROM``), show the coarse preview
             (``heatcore.CoarsePreview``) instead of the solver's field: a drag's move.
-            :meth:`settle` (the mouse at rest) shows the solver's.
+            :meth:`settle` (the mouse at rest) shows the solver's. While the solver
+            builds (:attr:`preview_ready`) every move shows the preview.
 
         Returns
         -------
         (n,) float array
             The distance at every vertex (``inf`` where unreachable).
         """
-        self._require()
+        self._require(preview=True)
         point = self._point(face, barycentric)
         if self.active is None:
             return self.add(face, barycentric)
@@ -281,14 +316,15 @@ class GeodesicProbe:
                             preview=preview and self._previews())
 
     def settle(self):
-        """Replace a drag's coarse preview by the solver's field (the mouse at rest); the distance."""
-        if not self.exact and self.sources:
+        """Replace a drag's coarse preview by the solver's field (the mouse at rest, or the solver just built);
+        the distance. While the solver builds the preview stays."""
+        if not self.exact and self.sources and self.ready:
             self._update(undo=lambda: None)
         return self.distance
 
     def add(self, face, barycentric=None):
         """Add a source at a surface point (or a vertex); it becomes the dragged one. Returns the distance."""
-        self._require()
+        self._require(preview=True)
         self.sources.append(self._point(face, barycentric))
         previous, self.active = self.active, len(self.sources) - 1
 
@@ -303,7 +339,7 @@ class GeodesicProbe:
 
         The last becomes the dragged one. Returns the distance (None for no sources).
         """
-        self._require()
+        self._require(preview=True)
         previous = self.sources, self.active
         self.sources = [self._point(s, b) for s, b in sources]
         self.active = len(self.sources) - 1 if self.sources else None
@@ -321,6 +357,7 @@ class GeodesicProbe:
         start = time.perf_counter()
         vertices = [s for s, b in self.sources if b is None]
         points = [(s, b) for s, b in self.sources if b is not None]
+        preview = preview or not self.ready  # the solver still builds: the preview (preview_ready)
         solver = self._preview() if preview else self.run.solver
         try:
             self.distance = self.run.placement.distance(solver.distance(
@@ -393,7 +430,7 @@ class GeodesicProbe:
     def ray_cast(self, origin, direction):
         """The first :data:`~.probe_surface.Hit` (face, barycentric, location, depth) of a world-space ray on the
         mesh as displayed, or None."""
-        return self.surface.ray_cast(origin, direction) if self.ready else None
+        return self.surface.ray_cast(origin, direction) if self.ready or self.preview_ready else None
 
     def world_point(self, face, barycentric=None):
         """The world position of a surface point (or vertex) as displayed."""

@@ -2,13 +2,15 @@
 
 A headless ``bpy`` has no window, no event loop and no GPU: the probe's logic
 is :class:`blender_addon.probe.GeodesicProbe`, driven here directly, and the
-modal operator's is :class:`blender_addon.probe_tool.ProbeSession`, fed
+modal operator's is :class:`blender_addon.probe_session.ProbeSession`, fed
 event-like objects with a ``locate`` that casts a straight-down ray through
 the real ray-casting tree (mouse x, y -> world x, y). The overlay's draw
 callback cannot run; the data it draws is checked instead.
 """
 
 import importlib
+import threading
+import time
 import tracemalloc
 from dataclasses import dataclass
 
@@ -34,7 +36,8 @@ HAS_PATHS = hasattr(hc.HeatSolver, "geodesic_path")
 
 @pytest.fixture(scope="module")
 def mods(addon):  # noqa: F811
-    names = ("probe", "probe_tool", "probe_surface", "overlay", "curves", "adapters", "api", "background", "legend")
+    names = ("probe", "probe_tool", "probe_session", "probe_surface", "overlay", "curves", "adapters", "api",
+             "background", "legend")
     return {name: importlib.import_module(f"blender_addon.{name}") for name in names}
 
 
@@ -100,7 +103,7 @@ def session(mods, probe, **kw):
         hit = probe.ray_cast(origin, (0.0, 0.0, -1.0))
         return hit if hit is not None else f"the cursor is not on {probe.run.object_name!r}"
 
-    s = mods["probe_tool"].ProbeSession(probe, RecordingDisplay(), locate, lambda k, m: reports.append((k, m)), **kw)
+    s = mods["probe_session"].ProbeSession(probe, RecordingDisplay(), locate, lambda k, m: reports.append((k, m)), **kw)
     return s, reports
 
 
@@ -691,7 +694,7 @@ def test_a_drag_on_a_large_mesh_shows_the_coarse_preview_until_the_mouse_rests(m
     """Issue 34: 0.56 s per update at 1M vertices; a drag now shows a coarse field (about 40 ms there)
     and the solver's field once the mouse rests (REST_SECONDS) or the button is up; confirm writes the exact one."""
     monkeypatch.setattr(mods["probe"], "PREVIEW_FROM", 100)  # a small grid stands in for a large mesh
-    monkeypatch.setattr(mods["probe_tool"], "REST_SECONDS", 0.0)
+    monkeypatch.setattr(mods["probe_session"], "REST_SECONDS", 0.0)
     obj = grid(40)
     probe = mods["probe"].GeodesicProbe(obj, isolines=8)
     s, _ = session(mods, probe)
@@ -712,6 +715,94 @@ def test_a_drag_on_a_large_mesh_shows_the_coarse_preview_until_the_mouse_rests(m
     assert probe.exact
     expected = probe.run.solver.distance(points=([probe.sources[0][0]], [probe.sources[0][1]]))
     np.testing.assert_allclose(result.distance, expected, rtol=1e-12, atol=1e-12)
+
+
+def held_probe(mods, monkeypatch, obj, **options):
+    """A probe built in the background whose solver build waits for ``release.set()``: ``(probe, release)``."""
+    release, build_solver = threading.Event(), mods["probe"].build_solver
+
+    def held(run, progress=None):
+        assert release.wait(120)
+        return build_solver(run, progress)
+
+    monkeypatch.setattr(mods["probe"], "build_solver", held)
+    probe = mods["probe"].GeodesicProbe(obj, background=True, **options)
+    return probe, release
+
+
+def wait_for(condition, seconds=60):
+    deadline = time.monotonic() + seconds
+    while not condition():
+        assert time.monotonic() < deadline, "timed out"
+        time.sleep(0.01)
+
+
+def test_a_large_mesh_is_probed_on_its_coarse_preview_while_the_solver_builds(mods, monkeypatch):
+    """Issue 34: the 1M-vertex probe's first start took 16-19 s; from PREVIEW_FROM vertices sources are placed and
+    dragged on the coarse preview (made from the arrays first) while the solver builds, which then replaces it."""
+    monkeypatch.setattr(mods["probe"], "PREVIEW_FROM", 100)  # a small grid stands in for a large mesh
+    obj = grid(40)
+    probe, release = held_probe(mods, monkeypatch, obj, isolines=8)
+    s, _ = session(mods, probe)
+    wait_for(lambda: probe.preview_ready)
+    assert not probe.ready and probe.run.solver is None
+    assert s.handle(Event("LEFTMOUSE", "PRESS", *to_mouse(-0.5, -0.5))) == {"RUNNING_MODAL"}
+    s.handle(Event("MOUSEMOVE", "NOTHING", *to_mouse(-0.4, -0.5)))
+    assert len(probe.sources) == 1 and not probe.exact and np.isfinite(probe.distance).all()
+    preview = probe.distance.copy()
+    assert s.handle(Event("LEFTMOUSE", "RELEASE", *to_mouse(-0.4, -0.5))) == {"RUNNING_MODAL"}
+    assert not probe.exact  # the mouse up: still the preview, no solver yet
+    assert s.handle(Event("LEFTMOUSE", "PRESS", *to_mouse(-0.4, -0.5), ctrl=True)) == {"RUNNING_MODAL"}
+    assert s.display.texts[-1].startswith("paths and traces need the solver")
+    assert s.handle(Event("RET", "PRESS")) == {"RUNNING_MODAL"}  # Enter waits for the solver
+    with pytest.raises(mods["adapters"].AddonError, match="still being built"):
+        probe.confirm()
+    assert "geodesic_distance" not in obj.data.attributes
+    release.set()
+    assert probe.build.wait(120)
+    assert s.handle(Event("TIMER", "NOTHING")) == {"PASS_THROUGH"}  # built: the solver's field replaces the preview
+    assert probe.ready and probe.exact and s.display.readied == 1
+    exact = probe.run.solver.distance(points=([probe.sources[0][0]], [probe.sources[0][1]]))
+    np.testing.assert_allclose(probe.distance, exact, rtol=1e-12, atol=1e-12)
+    assert np.abs(preview - exact).mean() < 0.05 * exact.max()  # the preview was coarse, not wrong
+    assert probe._preview() is probe.early_preview  # kept for the solver's next probes (its domain's cache)
+    assert s.handle(Event("RET", "PRESS")) == {"FINISHED"}
+    np.testing.assert_allclose(attribute(obj.data, "geodesic_distance"), exact, rtol=1e-6, atol=1e-6)
+
+
+def test_the_tools_click_on_a_large_mesh_is_placed_on_the_preview_and_confirmed_once_built(mods, monkeypatch):
+    monkeypatch.setattr(mods["probe"], "PREVIEW_FROM", 100)
+    obj = grid(40)
+    probe, release = held_probe(mods, monkeypatch, obj)
+    press = Event("LEFTMOUSE", "PRESS", *to_mouse(0.5, 0.0))
+    s, reports = session(mods, probe, release_confirms=True, press=press)
+    wait_for(lambda: probe.preview_ready)
+    assert s.handle(Event("TIMER", "NOTHING")) == {"PASS_THROUGH"}  # the tool's click placed on the preview
+    assert len(probe.sources) == 1 and not probe.exact
+    assert s.handle(Event("LEFTMOUSE", "RELEASE", *to_mouse(0.5, 0.0))) == {"RUNNING_MODAL"}  # not yet written
+    assert "geodesic_distance" not in obj.data.attributes
+    release.set()
+    assert probe.build.wait(120)
+    assert s.handle(Event("TIMER", "NOTHING")) == {"FINISHED"}  # built, then confirmed: it was released
+    exact = probe.run.solver.distance(points=([probe.sources[0][0]], [probe.sources[0][1]]))
+    np.testing.assert_allclose(attribute(obj.data, "geodesic_distance"), exact, rtol=1e-6, atol=1e-6)
+    assert reports[-1][0] == {"INFO"}
+
+
+def test_esc_while_dragging_on_the_preview_cancels_the_build_and_writes_nothing(mods, monkeypatch):
+    monkeypatch.setattr(mods["probe"], "PREVIEW_FROM", 100)
+    obj = grid(40)
+    probe, release = held_probe(mods, monkeypatch, obj)
+    s, _ = session(mods, probe)
+    wait_for(lambda: probe.preview_ready)
+    s.handle(Event("LEFTMOUSE", "PRESS", *to_mouse(0.1, 0.2)))
+    s.handle(Event("MOUSEMOVE", "NOTHING", *to_mouse(0.2, 0.2)))
+    assert s.handle(Event("ESC", "PRESS")) == {"CANCELLED"}
+    release.set()
+    probe.build.wait(120)
+    assert probe.ended and not probe.preview_ready and not mods["overlay"].Overlay.live
+    assert obj.data.session_uid not in mods["probe"].SOLVERS
+    assert "geodesic_distance" not in obj.data.attributes
 
 
 def test_small_meshes_drag_with_the_solvers_field(mods):
