@@ -152,13 +152,13 @@ class GeodesicProbe:
             if self.run.F is None:
                 self.run.F = self.triangles
             build_solver(self.run, progress)
-        if progress is not None:
+        if progress is not None and self.surface.tree is None:
             progress(0.8, "preparing the ray casting")
         self.surface.build_tree()
         if self._previews():
-            if progress is not None:
+            if progress is not None and self.early_preview is None:
                 progress(0.9, "a coarse copy of the mesh, for fast drags")
-            self._preview()
+            self._preview()  # kept in the domain's cache (the early one, where there is one)
         return self.run.solver
 
     def _build_early_preview(self, progress):
